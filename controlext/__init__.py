@@ -1,0 +1,33 @@
+"""controlext: state observers for noisy measurements, on python-control.
+
+Every observer is a :class:`control.StateSpace` whose realisation is its
+estimation-error system, so python-control's tools apply directly.
+"""
+
+# errors
+from .exceptions import (ControlextError, DimensionError, ArgumentError,
+                         ParameterError, NotDetectableError, RegionError,
+                         SolverError, VerificationError)
+# pole regions  (regions.py)
+from .regions import Region, HalfPlane, Disk, Sector
+# the H∞ norm with MATLAB's meaning  (norms.py)
+from .norms import hinfnorm, is_stable
+# the generalised plant and the engine  (problem.py, lmi.py, verify.py)
+from .problem import ObserverProblem
+from .verify import DesignReport
+# observer objects  (observers.py)
+from .observers import Observer, LuenbergerObserver
+# factories  (design.py)
+from .design import luenberger_observer, hinf_observer
+
+__version__ = '0.1.0'
+
+__all__ = [
+    'ControlextError', 'DimensionError', 'ArgumentError', 'ParameterError',
+    'NotDetectableError', 'RegionError', 'SolverError', 'VerificationError',
+    'Region', 'HalfPlane', 'Disk', 'Sector',
+    'hinfnorm', 'is_stable',
+    'ObserverProblem', 'DesignReport',
+    'Observer', 'LuenbergerObserver',
+    'luenberger_observer', 'hinf_observer',
+]

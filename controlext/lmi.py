@@ -1,0 +1,185 @@
+"""The synthesis engine: the generalised observer LMI, solved by cvxpy.
+
+For the problem of :class:`~controlext.problem.ObserverProblem` the
+variables are ``X = Xᵀ > 0``, ``Y = X G`` and ``γ``; with
+``Z = X Ae − Y Ce`` and ``M = Y Dwe − X Bwe``
+
+* continuous bounded-real lemma ``[[Z + Zᵀ, M, Czeᵀ], [*, −γI, 0], [*, *, −γI]] < 0``;
+* discrete bounded-real lemma (Stein form)
+  ``[[−X, Z, M, 0], [*, −X, 0, Czeᵀ], [*, *, −γI, 0], [*, *, *, −γI]] < 0``;
+* a pole region with characteristic matrices ``(L, M_r)``:
+  ``L ⊗ X + M_r ⊗ Zᵀ + M_rᵀ ⊗ Z ≤ 0``.
+
+The gain is ``G = X⁻¹ Y``. On plants with unstable modes the optimal γ is
+usually not attained and ``X`` tends to singular, so the engine solves in
+two stages: stage 1 finds ``γ*``; stage 2 fixes ``γ = margin · γ*`` and
+maximises the smallest eigenvalue of ``X`` (with ``X ≤ λmax(X₁) I`` so the
+problem stays bounded), which keeps ``G`` of moderate norm.
+
+Only the ``optimal`` status is accepted; anything else raises
+:class:`~controlext.exceptions.SolverError` with the status and statistics.
+
+Examples
+--------
+>>> from controlext.problem import ObserverProblem
+>>> from controlext.lmi import solve_observer_lmi
+>>> prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]])
+>>> sol = solve_observer_lmi(prob, margin=1.0)
+>>> sol.status
+'optimal'
+"""
+
+from dataclasses import dataclass, field
+import time
+import warnings
+
+import numpy as np
+import cvxpy as cp
+
+from .exceptions import SolverError
+
+__all__ = ['LMISolution', 'solve_observer_lmi']
+
+
+@dataclass
+class LMISolution:
+    """Result of :func:`solve_observer_lmi`.
+
+    Attributes
+    ----------
+    G : ndarray
+        Gain ``X⁻¹ Y``.
+    gamma_opt : float
+        Optimal level ``γ*`` of stage 1 (the convex problem's optimum).
+    gamma_bound : float
+        Certified bound of the returned gain (``margin · γ*``).
+    X, Y : ndarray
+        The certificate: Lyapunov matrix and ``Y = X G``.
+    status : str
+        Solver status (always ``'optimal'`` for a returned solution).
+    stats : dict
+        Solver name, iterations and solve time of each stage.
+    """
+    G: np.ndarray
+    gamma_opt: float
+    gamma_bound: float
+    X: np.ndarray
+    Y: np.ndarray
+    status: str
+    stats: dict = field(default_factory=dict)
+
+
+def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
+                       solver_options=None):
+    """Solve the observer LMI of ``problem`` in two stages.
+
+    Parameters
+    ----------
+    problem : ObserverProblem
+        The generalised plant.
+    region : Region, optional
+        Pole region for the error dynamics.
+    margin : float, optional
+        Stage 2 fixes ``γ = margin · γ*`` (``>= 1``); ``margin = 1`` skips
+        stage 2 and returns the stage-1 gain.
+    solver : str, optional
+        cvxpy solver name (default ``'CLARABEL'``).
+    solver_options : dict, optional
+        Keyword arguments passed to the solver.
+
+    Returns
+    -------
+    LMISolution
+    """
+    solver = solver or cp.CLARABEL
+    opts = dict(solver_options or {})
+    X, Y, gamma, brl, cons = _build(problem, region)
+
+    stage1 = cp.Problem(cp.Minimize(gamma), cons + [brl(gamma)])
+    stats = {'solver': solver}
+    _solve(stage1, solver, opts, 'stage 1 (minimise γ)', stats, 'stage1')
+    gamma_opt = float(gamma.value)
+    Xv, Yv = X.value, Y.value
+    gbound = gamma_opt
+    if margin > 1:
+        gbound = max(margin * gamma_opt, gamma_opt + 1e-9)
+        t = cp.Variable()
+        xmax = max(float(np.linalg.eigvalsh(Xv)[-1]), 1e-12)
+        n = Xv.shape[0]
+        stage2 = cp.Problem(cp.Maximize(t), cons + [
+            brl(cp.Constant(gbound)), X >> t * np.eye(n),
+            X << xmax * np.eye(n)])
+        try:
+            _solve(stage2, solver, opts, 'stage 2 (condition X)', stats,
+                   'stage2')
+            Xv, Yv = X.value, Y.value
+        except SolverError:
+            # stage 1's X is feasible for stage 2, so failure is numerical:
+            # keep the stage-1 certificate and say so in the statistics
+            stats['stage2']['fallback'] = 'stage 1 solution kept'
+            gbound = gamma_opt
+    Xv = 0.5 * (Xv + Xv.T)
+    G = np.linalg.solve(Xv, Yv)
+    return LMISolution(G=G, gamma_opt=gamma_opt, gamma_bound=gbound, X=Xv,
+                       Y=Yv, status='optimal', stats=stats)
+
+
+def _build(problem, region):
+    Ae, Ce, Bwe, Dwe, Cze = (problem.Ae, problem.Ce, problem.Bwe,
+                             problem.Dwe, problem.Cze)
+    N, q, nz = Ae.shape[0], Bwe.shape[1], Cze.shape[0]
+    X = cp.Variable((N, N), symmetric=True, name='X')
+    Y = cp.Variable(problem.gain_shape, name='Y')
+    gamma = cp.Variable(nonneg=True, name='gamma')
+    Z = X @ Ae - Y @ Ce
+    M = Y @ Dwe - X @ Bwe
+    scale = max(1.0, np.linalg.norm(Ae, 2))
+    eps = 1e-9 * scale
+    discrete = bool(problem.dt)
+
+    def brl(g):
+        if discrete:
+            blk = cp.bmat([
+                [-X, Z, M, np.zeros((N, nz))],
+                [Z.T, -X, np.zeros((N, q)), Cze.T],
+                [M.T, np.zeros((q, N)), -g * np.eye(q), np.zeros((q, nz))],
+                [np.zeros((nz, N)), Cze, np.zeros((nz, q)), -g * np.eye(nz)]])
+        else:
+            blk = cp.bmat([
+                [Z + Z.T, M, Cze.T],
+                [M.T, -g * np.eye(q), np.zeros((q, nz))],
+                [Cze, np.zeros((nz, q)), -g * np.eye(nz)]])
+        blk = 0.5 * (blk + blk.T)
+        return blk << -eps * np.eye(blk.shape[0])
+
+    cons = [X >> eps * np.eye(N)]
+    if region is not None:
+        for L, Mr in region.blocks():
+            blk = cp.kron(L, X) + cp.kron(Mr, Z.T) + cp.kron(Mr.T, Z)
+            cons.append(0.5 * (blk + blk.T) << 0)
+    return X, Y, gamma, brl, cons
+
+
+def _solve(prob, solver, opts, what, stats, key):
+    start = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            # cvxpy warns on inaccurate solutions; the status decides here
+            warnings.simplefilter('ignore', UserWarning)
+            prob.solve(solver=solver, **opts)
+    except cp.error.SolverError as exc:
+        raise SolverError(f"{what}: the solver {solver} failed ({exc})",
+                          status='solver_error', stats=stats) from exc
+    info = prob.solver_stats
+    stats[key] = {'status': prob.status,
+                  'iterations': getattr(info, 'num_iters', None),
+                  'solve_time': getattr(info, 'solve_time', None),
+                  'wall_time': time.perf_counter() - start}
+    if prob.status != cp.OPTIMAL:
+        hint = {'infeasible': 'no gain meets the constraints (is the pole '
+                              'region reachable?)',
+                'unbounded': 'the problem is unbounded',
+                }.get(prob.status, 'the solution is not reliable')
+        raise SolverError(f"{what}: solver {solver} ended with status "
+                          f"'{prob.status}': {hint}", status=prob.status,
+                          stats=stats)

@@ -1,0 +1,130 @@
+"""Design reports and the verification every returned design passes.
+
+A design is never trusted: after synthesis the true H∞ norm of the
+returned error system is computed (slycot ``ab13dd`` with a fallback), its
+poles are checked against the requested region, and the certified bound
+must not be below the true norm beyond the solver's tolerance.  A design
+that fails is a :class:`~controlext.exceptions.VerificationError`.
+
+Examples
+--------
+>>> import controlext as cx
+>>> from controlext.problem import ObserverProblem
+>>> from controlext.verify import verify_design
+>>> prob = ObserverProblem(A=[[-0.5]], C=[[1.0]])
+>>> rep = verify_design(prob, [[2.0]], region=cx.HalfPlane(2.5))
+>>> round(rep.hinf, 4), round(rep.decay, 4)
+(0.8, 2.5)
+"""
+
+from dataclasses import dataclass, field, asdict
+
+import numpy as np
+import control as ct
+
+from .exceptions import VerificationError
+from .norms import hinfnorm
+
+__all__ = ['DesignReport', 'verify_design']
+
+#: relative tolerance between a certified bound and the true norm
+BOUND_RTOL = 1e-5
+#: absolute tolerance, for bounds near zero
+BOUND_ATOL = 1e-5
+#: tolerance on region margins (absolute, scaled by the pole magnitude)
+REGION_TOL = 1e-6
+
+
+@dataclass
+class DesignReport:
+    """What a design is and how it was obtained.
+
+    Attributes
+    ----------
+    method : str
+        ``'given'``, ``'placement'``, ``'lmi'``, ``'riccati'``, ``'refined'``.
+    hinf : float
+        True H∞ norm of the error system (``inf`` if unstable).
+    peak_frequency : float
+        Frequency (rad/s) of the peak gain.
+    decay : float
+        Rate of convergence ``-max Re λ`` (continuous) or ``-ln max|λ|/dt``
+        (discrete) of the error dynamics.
+    poles : ndarray
+        Poles of the error system.
+    region : Region or None
+        The requested pole region.
+    gamma_opt : float or None
+        Optimum of the convex problem (stage 1), when one was solved.
+    gamma_bound : float or None
+        Certified bound on the H∞ norm of the returned gain.
+    solver, status : str or None
+        Solver used and its final status.
+    time : float
+        Wall-clock time of the design, in seconds.
+    stats : dict
+        Solver statistics and stage details.
+    """
+    method: str
+    hinf: float
+    peak_frequency: float
+    decay: float
+    poles: np.ndarray
+    region: object = None
+    gamma_opt: float = None
+    gamma_bound: float = None
+    solver: str = None
+    status: str = None
+    time: float = 0.0
+    stats: dict = field(default_factory=dict)
+
+    def as_dict(self):
+        """The report as a plain dictionary."""
+        return asdict(self)
+
+
+def decay_rate(poles, dt=0):
+    """Rate of convergence of a system with the given poles."""
+    poles = np.asarray(poles, dtype=complex)
+    if poles.size == 0:
+        return float('inf')
+    if dt:
+        rho = np.max(np.abs(poles))
+        dt = 1.0 if dt is True else float(dt)
+        return float('inf') if rho == 0 else float(-np.log(rho) / dt)
+    return float(-np.max(poles.real))
+
+
+def verify_design(problem, G, region=None, gamma_bound=None, method='given',
+                  check=True, **info):
+    """Compute the report of gain ``G`` on ``problem`` and check it.
+
+    Raises :class:`VerificationError` (when ``check``) if the error system
+    is unstable, a pole is outside ``region`` or the true H∞ norm exceeds
+    ``gamma_bound`` beyond :data:`BOUND_RTOL`.
+    """
+    sys = ct.ss(*problem.error_system(G), problem.dt)
+    poles = np.linalg.eigvals(sys.A) if sys.nstates else np.zeros(0)
+    gamma, wpeak = hinfnorm(sys)
+    report = DesignReport(method=method, hinf=gamma, peak_frequency=wpeak,
+                          decay=decay_rate(poles, problem.dt), poles=poles,
+                          region=region, gamma_bound=gamma_bound, **info)
+    if not check:
+        return report
+    if not np.isfinite(gamma):
+        raise VerificationError(
+            f"the {method} design is not stable: error poles "
+            f"{np.round(poles, 6).tolist()}")
+    if region is not None:
+        scale = max(1.0, float(np.max(np.abs(poles))) if poles.size else 1.0)
+        worst = region.worst_margin(poles)
+        if worst > REGION_TOL * scale:
+            raise VerificationError(
+                f"the {method} design has poles outside {region} (worst "
+                f"margin {worst:.3g}); poles {np.round(poles, 6).tolist()}")
+    if gamma_bound is not None and gamma > gamma_bound * (1 + BOUND_RTOL) \
+            + BOUND_ATOL:
+        raise VerificationError(
+            f"the {method} design's true H∞ norm {gamma:.6g} exceeds its "
+            f"certified bound {gamma_bound:.6g}")
+    return report

@@ -1,0 +1,85 @@
+"""cx.hinfnorm: MATLAB's meaning, checked against brute-force grids."""
+
+import warnings
+
+import numpy as np
+import pytest
+import control as ct
+
+import controlext as cx
+import controlext.norms as norms
+
+
+def grid_peak(sys, lo=-3, hi=3, num=20001):
+    """Largest singular value over a dense log grid (independent check)."""
+    w = np.logspace(lo, hi, num)
+    if sys.isdtime():
+        w = w[w < np.pi / sys.dt]
+    resp = sys(1j * w if sys.isctime() else np.exp(1j * w * sys.dt))
+    resp = np.asarray(resp).reshape(sys.noutputs, sys.ninputs, -1)
+    return max(np.linalg.svd(resp[:, :, k], compute_uv=False)[0]
+               for k in range(resp.shape[2]))
+
+
+SYSTEMS = [
+    pytest.param(ct.tf([1], [1, 0.2, 1]), id='resonant'),
+    pytest.param(ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[1.0], [0.5]],
+                       np.eye(2), 0), id='2nd-order'),
+    pytest.param(ct.ss(np.diag([-1.0, -2.0, -0.1, -3.0]) +
+                       np.diag([0.5, 0.0, 0.2], 1),
+                       np.ones((4, 2)), np.arange(12.0).reshape(3, 4) / 10,
+                       np.zeros((3, 2))), id='mimo-4'),
+]
+
+
+@pytest.mark.parametrize('sys', SYSTEMS)
+def test_matches_grid(sys):
+    gamma, w = cx.hinfnorm(sys)
+    assert gamma == pytest.approx(grid_peak(ct.ss(sys)), rel=1e-4)
+    assert np.linalg.svd(np.atleast_2d(ct.ss(sys)(1j * w)),
+                         compute_uv=False)[0] == pytest.approx(gamma, rel=1e-6)
+
+
+@pytest.mark.parametrize('sys', SYSTEMS)
+def test_fallback_when_slycot_raises(monkeypatch, sys):
+    from slycot.exceptions import SlycotArithmeticError
+    expected = cx.hinfnorm(sys)
+
+    def broken(*args, **kwargs):
+        raise SlycotArithmeticError('ab13dd failed', 1)
+
+    monkeypatch.setattr(norms.ct, 'linfnorm', broken)
+    with pytest.warns(RuntimeWarning, match='fallback'):
+        gamma, w = cx.hinfnorm(sys)
+    assert gamma == pytest.approx(expected[0], rel=1e-8)
+    assert w == pytest.approx(expected[1], rel=1e-4, abs=1e-6)
+
+
+def test_discrete_and_discrete_fallback(monkeypatch):
+    sys = ct.c2d(ct.ss(ct.tf([1], [1, 0.2, 1])), 0.1)
+    gamma, w = cx.hinfnorm(sys)
+    assert gamma == pytest.approx(grid_peak(sys, -2, 1.49, 40001), rel=1e-5)
+    monkeypatch.setattr(norms.ct, 'linfnorm',
+                        lambda *a, **k: (_ for _ in ()).throw(ValueError()))
+    with pytest.warns(RuntimeWarning):
+        g2, w2 = cx.hinfnorm(sys)
+    assert g2 == pytest.approx(gamma, rel=1e-8)
+    assert w2 == pytest.approx(w, rel=1e-4)
+
+
+@pytest.mark.parametrize('sys', [
+    ct.tf([1], [1, -1]),
+    ct.ss([[0.0]], [[1.0]], [[1.0]], 0),               # pole on the axis
+    ct.ss([[1.1]], [[1.0]], [[1.0]], 0, 0.1),          # discrete, |z| > 1
+], ids=['unstable', 'marginal', 'unstable-discrete'])
+def test_unstable_is_inf(sys):
+    gamma, w = cx.hinfnorm(sys)
+    assert gamma == np.inf and np.isnan(w)
+    # python-control's linfnorm gives the finite L∞ norm instead
+    if sys.isctime() and np.all(ct.poles(sys).real != 0):
+        assert np.isfinite(ct.linfnorm(sys)[0])
+
+
+def test_rejects_non_system():
+    with pytest.raises(cx.ArgumentError, match='linear system'):
+        cx.hinfnorm([[1.0]])

@@ -1,0 +1,92 @@
+"""Observer objects: attributes, copies, pickling, python-control algebra,
+and the runnable estimator wired to the plant."""
+
+import copy
+import pickle
+
+import numpy as np
+import pytest
+import control as ct
+
+import controlext as cx
+
+
+@pytest.fixture
+def obs(second_order_plant):
+    return cx.LuenbergerObserver(second_order_plant, [[2.0], [5.0]],
+                                 name='obs')
+
+
+def test_realisation_is_the_error_system(obs, second_order_plant):
+    A, C = second_order_plant.A, second_order_plant.C
+    L = np.array([[2.0], [5.0]])
+    np.testing.assert_allclose(obs.A, A - L @ C)
+    np.testing.assert_allclose(obs.B, L)           # L Dw - Bw, Bw = 0
+    np.testing.assert_allclose(obs.C, np.eye(2))
+    np.testing.assert_allclose(obs.D, 0)
+    assert isinstance(obs, ct.StateSpace) and isinstance(obs, cx.Observer)
+    assert obs.input_labels == ['w[0]']
+    assert obs.output_labels == ['ebar[0]', 'ebar[1]']
+    np.testing.assert_allclose(obs.L, L)
+    assert obs.report.method == 'given'
+    np.testing.assert_allclose(obs.plant.A, A)
+
+
+def test_noise_model_enters_the_realisation(second_order_plant):
+    Bw = np.array([[1.0], [0.5]])
+    Dw = np.array([[0.2]])
+    Cz = np.array([[1.0, 0.0]])
+    L = np.array([[2.0], [5.0]])
+    obs = cx.LuenbergerObserver(second_order_plant, L, Bw=Bw, Dw=Dw, Cz=Cz)
+    np.testing.assert_allclose(obs.B, L @ Dw - Bw)
+    np.testing.assert_allclose(obs.C, Cz)
+
+
+@pytest.mark.parametrize('clone', [
+    copy.deepcopy, copy.copy, lambda o: o.copy(),
+    lambda o: pickle.loads(pickle.dumps(o)),
+], ids=['deepcopy', 'copy', 'method', 'pickle'])
+def test_copies_keep_class(obs, clone):
+    new = clone(obs)
+    assert type(new) is cx.LuenbergerObserver
+    np.testing.assert_allclose(new.L, obs.L)
+    assert new.report.hinf == obs.report.hinf
+    assert ct.linfnorm(new)[0] == pytest.approx(0.4859, rel=1e-3)
+    np.testing.assert_allclose(new.estimator().A, obs.estimator().A)
+
+
+def test_algebra_returns_plain_statespace(obs):
+    for result in (obs * 2, obs + obs, obs[0, 0], obs.sample(0.1),
+                   ct.minreal(obs, verbose=False)):
+        assert type(result) is ct.StateSpace
+
+
+def test_estimator_signals(obs):
+    est = obs.estimator()
+    assert est.input_labels == ['u[0]', 'y[0]']
+    assert est.output_labels == ['xhat[0]', 'xhat[1]']
+    assert est.name == 'obs_estimator'
+
+
+def test_estimator_converges_to_plant_state(second_order_plant):
+    A, B, C = second_order_plant.A, second_order_plant.B, \
+        second_order_plant.C
+    # the plant also outputs its state, so the test can compare
+    plant = ct.ss(A, B, np.vstack([C, np.eye(2)]), np.zeros((3, 1)),
+                  name='plant', inputs='u', outputs=['y', 'x[0]', 'x[1]'])
+    design_plant = ct.ss(A, B, C, 0, inputs='u', outputs='y')
+    obs = cx.hinf_observer(design_plant, decay=1.0)
+    est = obs.estimator(name='est')
+    assert est.input_labels == ['u', 'y']
+    closed = ct.interconnect(
+        [plant, est], inplist=[['plant.u', 'est.u']],
+        outlist=['x[0]', 'x[1]', 'xhat[0]', 'xhat[1]'],
+        connections=[['est.y', 'plant.y']], inputs='u')
+    # horizon from the slowest error pole: 12 time constants
+    T = np.linspace(0, 12 / obs.decay, 3001)
+    u = np.sin(T)
+    x0 = np.array([1.0, -2.0, 0.0, 0.0])         # estimate starts at 0
+    resp = ct.forced_response(closed, T, u, X0=x0)
+    err = resp.outputs[2:] - resp.outputs[:2]
+    assert np.linalg.norm(err[:, 0]) > 1
+    assert np.linalg.norm(err[:, -1]) < 1e-4 * np.linalg.norm(err[:, 0])
