@@ -16,9 +16,9 @@ from .norms import hinfnorm, is_stable
 from .problem import ObserverProblem
 from .verify import DesignReport
 # observer objects  (observers.py)
-from .observers import Observer, LuenbergerObserver
+from .observers import Observer, LuenbergerObserver, CoupledObserver
 # factories  (design.py)
-from .design import luenberger_observer, hinf_observer
+from .design import luenberger_observer, hinf_observer, coupled_observer
 
 __version__ = '0.1.0'
 
@@ -28,6 +28,6 @@ __all__ = [
     'Region', 'HalfPlane', 'Disk', 'Sector',
     'hinfnorm', 'is_stable',
     'ObserverProblem', 'DesignReport',
-    'Observer', 'LuenbergerObserver',
-    'luenberger_observer', 'hinf_observer',
+    'Observer', 'LuenbergerObserver', 'CoupledObserver',
+    'luenberger_observer', 'hinf_observer', 'coupled_observer',
 ]

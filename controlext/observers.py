@@ -29,10 +29,11 @@ import numpy as np
 import control as ct
 
 from ._checks import as_matrix, as_plant
+from .exceptions import DimensionError, ParameterError
 from .problem import ObserverProblem
 from .verify import verify_design
 
-__all__ = ['Observer', 'LuenbergerObserver']
+__all__ = ['Observer', 'LuenbergerObserver', 'CoupledObserver']
 
 
 class Observer(ct.StateSpace):
@@ -195,3 +196,83 @@ class LuenbergerObserver(Observer):
     def L(self):
         """The observer gain ``L`` (``n × p``)."""
         return self.G.copy()
+
+
+class CoupledObserver(Observer):
+    """``N >= 2`` coupled Luenberger observers with a weighted output.
+
+    ``x̂_i' = A x̂_i + B u − Σ_j G_ij (C x̂_j + D u − y)``, estimate
+    ``x̄ = Σ_i c_i x̂_i``.  For ``N = 2``, ``Mu = [[K1, L1], [L2, K2]]`` is
+    the gain of Li & Sanfelice (16)/(27), and the realisation is their
+    error system (28) from noise to ``Cz (x̄ − x)``.
+
+    Parameters
+    ----------
+    plant : control.StateSpace
+        The plant.
+    Mu : array_like
+        Coupled gain of shape ``(N n, N p)``.
+    weights : array_like, optional
+        Output weights ``c`` (length ``N``, summing to 1; default ``1/N``).
+    Bw, Dw, Cz : array_like, optional
+        Noise model (see :class:`LuenbergerObserver`).
+    name : str, optional
+        System name.
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> obs = cx.CoupledObserver.from_pair(plant, 3.5198, 0.4802,
+    ...                                    -8.0142, 0.2883)
+    >>> round(cx.hinfnorm(obs)[0], 4)
+    0.4953
+    """
+
+    def __init__(self, plant, Mu, weights=None, Bw=None, Dw=None, Cz=None,
+                 name=None, report=None):
+        A, B, C, D, dt = as_plant(plant)
+        n, p = A.shape[0], C.shape[0]
+        Mu = as_matrix(Mu, 'Mu', (None, None))
+        N = Mu.shape[0] // n
+        if Mu.shape[0] % n or Mu.shape[1] != N * p or N < 1:
+            raise DimensionError(
+                f"Mu must have shape (N·n, N·p) = (N·{n}, N·{p}) for N "
+                f"coupled copies; found {Mu.shape}")
+        if N < 2:
+            raise ParameterError(
+                "a coupled observer needs at least 2 copies; found Mu of "
+                f"shape {Mu.shape}, i.e. 1 copy: use LuenbergerObserver")
+        problem = ObserverProblem(A, C, Bw, Dw, Cz, copies=N,
+                                  weights=weights, dt=dt)
+        super().__init__(ct.ss(plant), problem, Mu, report=report, name=name)
+
+    @classmethod
+    def from_pair(cls, plant, K1, K2, L1, L2, **kwargs):
+        """Coupled pair from the paper's gains ``K1, K2, L1, L2`` (16)."""
+        A, B, C, D, dt = as_plant(plant)
+        n, p = A.shape[0], C.shape[0]
+        K1, K2, L1, L2 = (as_matrix(M, name, (n, p)) for M, name in
+                          ((K1, 'K1'), (K2, 'K2'), (L1, 'L1'), (L2, 'L2')))
+        return cls(plant, np.block([[K1, L1], [L2, K2]]), **kwargs)
+
+    @property
+    def Mu(self):
+        """The coupled gain ``(N n × N p)``."""
+        return self.G.copy()
+
+    def _block(self, i, j, what):
+        if self.copies != 2:
+            raise AttributeError(f"{what} is defined for a coupled pair "
+                                 f"(N = 2); this observer has N = "
+                                 f"{self.copies}: use Mu")
+        n, p = self.problem.n, self.problem.p
+        return self.G[i * n:(i + 1) * n, j * p:(j + 1) * p].copy()
+
+    K1 = property(lambda self: self._block(0, 0, 'K1'), doc="Gain K1.")
+    K2 = property(lambda self: self._block(1, 1, 'K2'), doc="Gain K2.")
+    L1 = property(lambda self: self._block(0, 1, 'L1'),
+                  doc="Coupling gain L1 (copy 1 from copy 2's output).")
+    L2 = property(lambda self: self._block(1, 0, 'L2'),
+                  doc="Coupling gain L2 (copy 2 from copy 1's output).")

@@ -42,7 +42,8 @@ class DesignReport:
     Attributes
     ----------
     method : str
-        ``'given'``, ``'placement'``, ``'lmi'``, ``'riccati'``, ``'refined'``.
+        ``'given'``, ``'placement'``, ``'riccati'``, ``'lmi'`` or
+        ``'lmi+refine'``.
     hinf : float
         True H∞ norm of the error system (``inf`` if unstable).
     peak_frequency : float
@@ -54,6 +55,10 @@ class DesignReport:
         Poles of the error system.
     region : Region or None
         The requested pole region.
+    stage : str or None
+        Which stage produced the gain: ``'lmi'``, ``'riccati'``,
+        ``'refined'`` or ``'luenberger'`` (the Luenberger-equivalent start
+        of a coupled design).
     gamma_opt : float or None
         Optimum of the convex problem (stage 1), when one was solved.
     gamma_bound : float or None
@@ -71,6 +76,7 @@ class DesignReport:
     decay: float
     poles: np.ndarray
     region: object = None
+    stage: str = None
     gamma_opt: float = None
     gamma_bound: float = None
     solver: str = None
