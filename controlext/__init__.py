@@ -17,6 +17,11 @@ from .problem import ObserverProblem
 from .verify import DesignReport
 # observer objects  (observers.py)
 from .observers import Observer, LuenbergerObserver, CoupledObserver
+# analysis of Section III  (analysis.py)
+from .analysis import (spectral_abscissa, log_norm, eig_condition,
+                       ISSEstimate, iss_estimate, ConditionCheck,
+                       check_lemma_3_2, check_lemma_3_3, check_theorem_3_5,
+                       steady_state_error, crossing_time, tradeoff_curve)
 # factories  (design.py)
 from .design import luenberger_observer, hinf_observer, coupled_observer
 
@@ -30,4 +35,8 @@ __all__ = [
     'ObserverProblem', 'DesignReport',
     'Observer', 'LuenbergerObserver', 'CoupledObserver',
     'luenberger_observer', 'hinf_observer', 'coupled_observer',
+    'spectral_abscissa', 'log_norm', 'eig_condition', 'ISSEstimate',
+    'iss_estimate', 'ConditionCheck', 'check_lemma_3_2', 'check_lemma_3_3',
+    'check_theorem_3_5', 'steady_state_error', 'crossing_time',
+    'tradeoff_curve',
 ]

@@ -16,8 +16,12 @@ two stages: stage 1 finds ``γ*``; stage 2 fixes ``γ = margin · γ*`` and
 maximises the smallest eigenvalue of ``X`` (with ``X ≤ λmax(X₁) I`` so the
 problem stays bounded), which keeps ``G`` of moderate norm.
 
-Only the ``optimal`` status is accepted; anything else raises
-:class:`~controlext.exceptions.SolverError` with the status and statistics.
+The returned certificate always comes from a solve that ended ``optimal``;
+anything else raises :class:`~controlext.exceptions.SolverError` with the
+status and statistics.  Stage 1 may end ``optimal_inaccurate`` when ``γ*``
+is not attained: its value then only locates the optimum (recorded in
+``stats['stage1']['status']``), stage 2 is retried at slightly larger
+margins, and it must end ``optimal``.
 
 Examples
 --------
@@ -97,27 +101,42 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
 
     stage1 = cp.Problem(cp.Minimize(gamma), cons + [brl(gamma)])
     stats = {'solver': solver}
-    _solve(stage1, solver, opts, 'stage 1 (minimise γ)', stats, 'stage1')
+    # When γ* is not attained (unstable modes) clarabel may end stage 1
+    # 'optimal_inaccurate': its γ then only locates the optimum, and the
+    # certificate must come from stage 2, which has to end 'optimal'.
+    accept = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) if margin > 1 else \
+        (cp.OPTIMAL,)
+    _solve(stage1, solver, opts, 'stage 1 (minimise γ)', stats, 'stage1',
+           accept=accept)
     gamma_opt = float(gamma.value)
     Xv, Yv = X.value, Y.value
     gbound = gamma_opt
     if margin > 1:
-        gbound = max(margin * gamma_opt, gamma_opt + 1e-9)
-        t = cp.Variable()
-        xmax = max(float(np.linalg.eigvalsh(Xv)[-1]), 1e-12)
         n = Xv.shape[0]
-        stage2 = cp.Problem(cp.Maximize(t), cons + [
-            brl(cp.Constant(gbound)), X >> t * np.eye(n),
-            X << xmax * np.eye(n)])
-        try:
-            _solve(stage2, solver, opts, 'stage 2 (condition X)', stats,
-                   'stage2')
-            Xv, Yv = X.value, Y.value
-        except SolverError:
-            # stage 1's X is feasible for stage 2, so failure is numerical:
-            # keep the stage-1 certificate and say so in the statistics
-            stats['stage2']['fallback'] = 'stage 1 solution kept'
-            gbound = gamma_opt
+        xmax = max(float(np.linalg.eigvalsh(0.5 * (Xv + Xv.T))[-1]), 1e-12)
+        inexact = stage1.status != cp.OPTIMAL
+        tries = (margin, 1.05 * margin, 1.25 * margin) if inexact else \
+            (margin,)
+        for k, factor in enumerate(tries):
+            gbound = max(factor * gamma_opt, gamma_opt + 1e-9)
+            t = cp.Variable()
+            stage2 = cp.Problem(cp.Maximize(t), cons + [
+                brl(cp.Constant(gbound)), X >> t * np.eye(n),
+                X << xmax * np.eye(n)])
+            try:
+                _solve(stage2, solver, opts, 'stage 2 (condition X)', stats,
+                       'stage2')
+                Xv, Yv = X.value, Y.value
+                break
+            except SolverError:
+                if k + 1 < len(tries):
+                    continue
+                if inexact:
+                    raise
+                # stage 1's X is feasible for stage 2, so the failure is
+                # numerical: keep the stage-1 certificate and record it
+                stats['stage2']['fallback'] = 'stage 1 solution kept'
+                gbound = gamma_opt
     Xv = 0.5 * (Xv + Xv.T)
     G = np.linalg.solve(Xv, Yv)
     return LMISolution(G=G, gamma_opt=gamma_opt, gamma_bound=gbound, X=Xv,
@@ -160,7 +179,7 @@ def _build(problem, region):
     return X, Y, gamma, brl, cons
 
 
-def _solve(prob, solver, opts, what, stats, key):
+def _solve(prob, solver, opts, what, stats, key, accept=(cp.OPTIMAL,)):
     start = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -175,7 +194,7 @@ def _solve(prob, solver, opts, what, stats, key):
                   'iterations': getattr(info, 'num_iters', None),
                   'solve_time': getattr(info, 'solve_time', None),
                   'wall_time': time.perf_counter() - start}
-    if prob.status != cp.OPTIMAL:
+    if prob.status not in accept:
         hint = {'infeasible': 'no gain meets the constraints (is the pole '
                               'region reachable?)',
                 'unbounded': 'the problem is unbounded',
@@ -183,3 +202,29 @@ def _solve(prob, solver, opts, what, stats, key):
         raise SolverError(f"{what}: solver {solver} ended with status "
                           f"'{prob.status}': {hint}", status=prob.status,
                           stats=stats)
+
+
+def decay_certificate(A, alpha, solver=None, solver_options=None):
+    """Best-conditioned ``P`` with ``Aᵀ P + P A ≤ −2 α P`` (Lemma 3.3).
+
+    Minimises ``κ`` subject to ``I ≤ P ≤ κ I``; returns ``(P, κ)``.
+
+    Examples
+    --------
+    >>> from controlext.lmi import decay_certificate
+    >>> P, kappa = decay_certificate([[-2.0, 0.0], [0.0, -3.0]], 1.0)
+    >>> round(kappa, 4)
+    1.0
+    """
+    A = np.asarray(A, dtype=float)
+    n = A.shape[0]
+    P = cp.Variable((n, n), symmetric=True, name='P')
+    kappa = cp.Variable(name='kappa')
+    lyap = A.T @ P + P @ A + 2 * alpha * P
+    prob = cp.Problem(cp.Minimize(kappa), [
+        0.5 * (lyap + lyap.T) << 0, P >> np.eye(n), P << kappa * np.eye(n)])
+    stats = {'solver': solver or cp.CLARABEL}
+    _solve(prob, solver or cp.CLARABEL, dict(solver_options or {}),
+           f'decay certificate (alpha = {alpha:g})', stats, 'certificate')
+    Pv = 0.5 * (P.value + P.value.T)
+    return Pv, float(kappa.value)

@@ -80,14 +80,16 @@ def hinfnorm(sys, tol=1e-10):
     return float(gamma), float(fpeak)
 
 
-def hinfnorm_matrices(A, B, C, D, dt=0, tol=1e-10):
+def hinfnorm_matrices(A, B, C, D, dt=0, tol=1e-10, poles=None):
     """:func:`hinfnorm` of ``(A, B, C, D)`` without building a system.
 
     Calls slycot's ``ab13dd`` directly (the inner loop of refinement) and
-    falls back on the level-set algorithm when it raises.
+    falls back on the level-set algorithm when it raises.  ``poles`` (the
+    eigenvalues of ``A``) may be passed when already known.
     """
     n = A.shape[0]
-    poles = la.eigvals(A) if n else np.zeros(0)
+    if poles is None:
+        poles = la.eigvals(A) if n else np.zeros(0)
     if not is_stable(poles, dt):
         return float('inf'), float('nan')
     if n == 0:

@@ -36,6 +36,8 @@ Examples
 ([[-2.5, 0.0], [0.0, -2.5]], [2.0, 2.0], [[0.5, 0.5]])
 """
 
+from functools import cached_property
+
 import numpy as np
 
 from ._checks import as_matrix, noise_model
@@ -90,23 +92,23 @@ class ObserverProblem:
         """Shape ``(N n, N p)`` of the coupled gain ``G``."""
         return (self.copies * self.n, self.copies * self.p)
 
-    @property
+    @cached_property
     def Ae(self):
         return np.kron(np.eye(self.copies), self.A)
 
-    @property
+    @cached_property
     def Ce(self):
         return np.kron(np.eye(self.copies), self.C)
 
-    @property
+    @cached_property
     def Bwe(self):
         return np.kron(np.ones((self.copies, 1)), self.Bw)
 
-    @property
+    @cached_property
     def Dwe(self):
         return np.kron(np.ones((self.copies, 1)), self.Dw)
 
-    @property
+    @cached_property
     def Cze(self):
         return np.kron(self.weights.reshape(1, -1), self.Cz)
 

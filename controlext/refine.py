@@ -72,19 +72,19 @@ class RefineResult:
 class _Objective:
     """Penalised H∞ objective of a problem and region, with gradient."""
 
-    def __init__(self, problem, region, shape, rho, delta):
+    def __init__(self, problem, region, shape, rho, delta, tikhonov=0.0):
         self.prob, self.region, self.shape = problem, region, shape
-        self.rho, self.delta = rho, delta
+        self.rho, self.delta, self.tikhonov = rho, delta, tikhonov
         self.dt = problem.dt
         self.Ae, self.Ce = problem.Ae, problem.Ce
         self.count = 0
 
-    def margin(self, G):
+    def margin(self, G, eig=None):
         """Worst region margin and its gradient with respect to G."""
-        Acl = self.Ae - G @ self.Ce
         if self.region is None:
             return -np.inf, np.zeros_like(G)
-        lam, left, right = la.eig(Acl, left=True, right=True)
+        lam, left, right = eig if eig is not None else \
+            la.eig(self.Ae - G @ self.Ce, left=True, right=True)
         m = self.region.margins(lam)
         i, j = np.unravel_index(np.argmax(m), m.shape)
         x, y = right[:, i], left[:, i]
@@ -95,10 +95,11 @@ class _Objective:
         dre, dim = self.region.margin_gradients(lam[i:i + 1])[0, j]
         return float(m[i, j]), dre * dlam.real + dim * dlam.imag
 
-    def norm(self, G):
+    def norm(self, G, poles=None):
         """True H∞ norm and its gradient with respect to G."""
         Acl, Bcl, Ccl, Dcl = self.prob.error_system(G)
-        gamma, w = hinfnorm_matrices(Acl, Bcl, Ccl, Dcl, self.dt)
+        gamma, w = hinfnorm_matrices(Acl, Bcl, Ccl, Dcl, self.dt,
+                                     poles=poles)
         if not np.isfinite(gamma):
             return np.inf, np.zeros_like(G)
         n = Acl.shape[0]
@@ -113,14 +114,17 @@ class _Objective:
     def __call__(self, x):
         self.count += 1
         G = x.reshape(self.shape)
-        gamma, grad = self.norm(G)
+        eig = la.eig(self.Ae - G @ self.Ce, left=True, right=True)
+        gamma, grad = self.norm(G, poles=eig[0])
         if not np.isfinite(gamma):
             return np.inf, np.zeros_like(x)
-        m, mgrad = self.margin(G)
+        m, mgrad = self.margin(G, eig)
+        value = gamma + self.tikhonov * float(np.sum(G * G))
+        grad = grad + 2 * self.tikhonov * G
         if m + self.delta > 0:
-            return gamma + self.rho * (m + self.delta), \
+            return value + self.rho * (m + self.delta), \
                 (grad + self.rho * mgrad).ravel()
-        return gamma, grad.ravel()
+        return value, grad.ravel()
 
 
 def _bfgs(f, x0, maxiter, stop=None):
@@ -187,7 +191,7 @@ def _make_feasible(obj, G, target, maxiter=200):
 
 def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
                 screen_iterations=40, polish=4, maxiter=600, restarts=3,
-                delta=1e-7, rho=None):
+                delta=1e-7, rho=None, tikhonov=1e-5):
     """Minimise the true H∞ norm over the gain, inside ``region``.
 
     Parameters
@@ -212,6 +216,14 @@ def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
         Margin kept inside the region during the search.
     rho : float, optional
         Penalty weight (default ``10 (1 + γ₀)``).
+    tikhonov : float, optional
+        Relative weight of ``‖G‖²``: the objective adds
+        ``tikhonov · γ₀ · ‖G‖² / max(1, ‖G₁‖²)``, with ``G₁`` the first
+        given start (the LMI's well-conditioned gain) and ``γ₀`` the best
+        start's norm.  On plants with unstable
+        modes the infimum of the norm is often approached only as the gain
+        grows without bound; this term (which changes γ by about
+        ``tikhonov`` relative) keeps the gain finite.
 
     Returns
     -------
@@ -230,10 +242,13 @@ def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
         starts.append((f'{label}+random{k}',
                        base + scale * rng.normal(size=shape)))
     probe = _Objective(problem, region, shape, 0.0, delta)
+    g0 = min(probe.norm(G)[0] for _, G in given)
+    g0 = g0 if np.isfinite(g0) else 1.0
     if rho is None:
-        g0 = min((probe.norm(G)[0] for _, G in starts), default=1.0)
-        rho = 10.0 * (1.0 + (g0 if np.isfinite(g0) else 1.0))
-    obj = _Objective(problem, region, shape, rho, delta)
+        rho = 10.0 * (1.0 + g0)
+    G1 = given[0][1]
+    reg = tikhonov * max(g0, 1e-3) / max(1.0, float(np.sum(G1 * G1)))
+    obj = _Objective(problem, region, shape, rho, delta, reg)
 
     screened = []
     for label, G in starts:
