@@ -17,6 +17,8 @@ from .problem import ObserverProblem
 from .verify import DesignReport
 # observer objects  (observers.py)
 from .observers import Observer, LuenbergerObserver, CoupledObserver
+# GI observers  (gi.py)
+from .gi import GIObserver, gi_observer, range_basis, projection
 # analysis of Section III  (analysis.py)
 from .analysis import (spectral_abscissa, log_norm, eig_condition,
                        ISSEstimate, iss_estimate, ConditionCheck,
@@ -35,6 +37,7 @@ __all__ = [
     'ObserverProblem', 'DesignReport',
     'Observer', 'LuenbergerObserver', 'CoupledObserver',
     'luenberger_observer', 'hinf_observer', 'coupled_observer',
+    'GIObserver', 'gi_observer', 'range_basis', 'projection',
     'spectral_abscissa', 'log_norm', 'eig_condition', 'ISSEstimate',
     'iss_estimate', 'ConditionCheck', 'check_lemma_3_2', 'check_lemma_3_3',
     'check_theorem_3_5', 'steady_state_error', 'crossing_time',

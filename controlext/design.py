@@ -85,8 +85,12 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
                      np.sort_complex(poles.conj())) > 1e-12):
         raise ParameterError("complex poles must come in conjugate pairs; "
                              f"found {poles.tolist()}")
+    # redundant sensors (rank C < p): place through an orthonormal basis U
+    # of range(C), C = U Cr, and use L = Lr Uᵀ so that L C = Lr Cr
+    Usv, sv, _ = np.linalg.svd(C, full_matrices=False)
+    U = Usv[:, :int(np.sum(sv > 1e-10 * max(1.0, sv[0])))]
     try:
-        L = ct.place(A.T, C.T, poles).T
+        L = ct.place(A.T, (U.T @ C).T, poles).T @ U.T
     except ValueError as exc:
         raise ParameterError(f"pole placement failed: {exc}") from exc
     placed = np.linalg.eigvals(A - L @ C)
