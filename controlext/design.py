@@ -117,7 +117,8 @@ def _match_error(a, b):
 
 def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
                   region=None, method='auto', refine=True, margin=1.02,
-                  solver=None, solver_options=None, seed=0, name=None):
+                  solver=None, solver_options=None, seed=0,
+                  refine_options=None, name=None):
     """H∞-optimal Luenberger observer, optionally with a decay constraint.
 
     Minimises the H∞ norm from noise ``w`` to estimation error
@@ -152,6 +153,9 @@ def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
         cvxpy solver (default clarabel) and its options.
     seed : int, optional
         Seed of the refinement's random starts (results are reproducible).
+    refine_options : dict, optional
+        Options of :func:`controlext.refine.refine_gain` (number of random
+        starts, iterations, ...).
     name : str, optional
         System name.
 
@@ -198,7 +202,8 @@ def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
     else:
         L, report = synthesise(prob, region, refine=refine and region
                                is not None, margin=margin, solver=solver,
-                               solver_options=solver_options, seed=seed)
+                               solver_options=solver_options, seed=seed,
+                               refine_options=refine_options)
     report.time = time.perf_counter() - start
     return LuenbergerObserver(plant, L, prob.Bw, prob.Dw, prob.Cz, name=name,
                               report=report)
@@ -207,7 +212,7 @@ def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
 def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
                      Dw=None, Cz=None, *, region=None, refine=True,
                      margin=1.02, solver=None, solver_options=None, seed=0,
-                     name=None):
+                     refine_options=None, name=None):
     """Coupled Luenberger observers minimising the H∞ norm (Li & Sanfelice).
 
     Solves the convex problem (Theorem 3.10 for ``copies = 2``) and then
@@ -236,7 +241,7 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
     refine : bool, optional
         Run the refinement stage (default).  Without it the result is the
         convex (conservative) design.
-    margin, solver, solver_options, seed, name : optional
+    margin, solver, solver_options, seed, refine_options, name : optional
         As for :func:`hinf_observer`.
 
     Returns
@@ -271,18 +276,20 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
     if refine:
         single = hinf_observer(plant, Bw=prob.Bw, Dw=prob.Dw, Cz=prob.Cz,
                                region=region, margin=margin, solver=solver,
-                               solver_options=solver_options, seed=seed)
+                               solver_options=solver_options, seed=seed,
+                               refine_options=refine_options)
         extra.append(('luenberger', np.kron(np.eye(copies), single.L)))
     G, report = synthesise(prob, region, refine=refine, margin=margin,
                            solver=solver, solver_options=solver_options,
-                           seed=seed, extra_starts=extra)
+                           seed=seed, extra_starts=extra,
+                           refine_options=refine_options)
     report.time = time.perf_counter() - start
     return CoupledObserver(plant, G, prob.weights, prob.Bw, prob.Dw, prob.Cz,
                            name=name, report=report)
 
 
 def synthesise(prob, region, *, refine, margin, solver, solver_options,
-               seed, extra_starts=()):
+               seed, extra_starts=(), refine_options=None):
     """LMI, then (optionally) refinement; return the best verified gain.
 
     Candidates are the LMI gain, the refined gain and ``extra_starts``;
@@ -299,7 +306,7 @@ def synthesise(prob, region, *, refine, margin, solver, solver_options,
     if not refine:
         return G, best
     res = refine_gain(prob, region, [('lmi', sol.G)] + list(extra_starts),
-                      seed=seed)
+                      seed=seed, **dict(refine_options or {}))
     stats['refine'] = dict(start=res.start, starts=res.starts,
                            evaluations=res.evaluations, time=res.time)
     candidates = [(res.G, 'refined')] + [(Gs, label)
@@ -324,8 +331,7 @@ def resolve_region(decay, region, dt):
     if decay is not None:
         if dt:
             step = 1.0 if dt is True else float(dt)
-            region = Disk(float(np.exp(-decay * step)))
-            region.domain = 'discrete'
+            region = Disk(float(np.exp(-decay * step)), domain='discrete')
         else:
             region = HalfPlane(decay)
     if region is not None:

@@ -227,7 +227,8 @@ def _interleave(L, Lw, n, r, N):
 
 def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
                 weights=None, region=None, refine=True, margin=1.02,
-                solver=None, solver_options=None, seed=0, name=None):
+                solver=None, solver_options=None, seed=0,
+                refine_options=None, name=None):
     """H∞-optimal GI observer (optionally augmented, optionally coupled).
 
     Parameters
@@ -242,7 +243,9 @@ def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
         Also estimate the constant disturbance in ``range(C)``.
     copies : int, optional
         ``>= 2`` gives a coupled GI observer.
-    weights, region, refine, margin, solver, solver_options, seed, name
+    weights, region, refine, margin, solver, solver_options, seed
+        As for :func:`controlext.coupled_observer`.
+    refine_options, name
         As for :func:`controlext.coupled_observer`.
 
     Returns
@@ -283,7 +286,8 @@ def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
                            refine=refine and (region is not None or
                                               copies > 1),
                            margin=margin, solver=solver,
-                           solver_options=solver_options, seed=seed)
+                           solver_options=solver_options, seed=seed,
+                           refine_options=refine_options)
     report.time = time.perf_counter() - start
     n, r = A.shape[0], U.shape[1]
     m = n + r if augmented else n

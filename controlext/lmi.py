@@ -187,7 +187,9 @@ def _solve(prob, solver, opts, what, stats, key, accept=(cp.OPTIMAL,)):
             warnings.simplefilter('ignore', UserWarning)
             prob.solve(solver=solver, **opts)
     except cp.error.SolverError as exc:
-        raise SolverError(f"{what}: the solver {solver} failed ({exc})",
+        raise SolverError(f"{what}: the solver {solver} failed ({exc}); "
+                          "the constraints may be infeasible (is the pole "
+                          "region empty or unreachable?)",
                           status='solver_error', stats=stats) from exc
     info = prob.solver_stats
     stats[key] = {'status': prob.status,

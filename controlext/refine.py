@@ -215,7 +215,8 @@ def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
     delta : float, optional
         Margin kept inside the region during the search.
     rho : float, optional
-        Penalty weight (default ``10 (1 + γ₀)``).
+        Penalty weight (default ``10 (1 + γ₀)``, divided by ``dt`` in
+        discrete time).
     tikhonov : float, optional
         Relative weight of ``‖G‖²``: the objective adds
         ``tikhonov · γ₀ · ‖G‖² / max(1, ‖G₁‖²)``, with ``G₁`` the first
@@ -245,7 +246,11 @@ def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
     g0 = min(probe.norm(G)[0] for _, G in given)
     g0 = g0 if np.isfinite(g0) else 1.0
     if rho is None:
-        rho = 10.0 * (1.0 + g0)
+        # region margins of a discrete plant are in |z| units, about dt
+        # times those of the s-plane: scale the exact penalty to match
+        step = (1.0 if problem.dt is True else float(problem.dt)) \
+            if problem.dt else 1.0
+        rho = 10.0 * (1.0 + g0) / step
     G1 = given[0][1]
     reg = tikhonov * max(g0, 1e-3) / max(1.0, float(np.sum(G1 * G1)))
     obj = _Objective(problem, region, shape, rho, delta, reg)

@@ -24,6 +24,8 @@ False
 
 import numpy as np
 
+from .exceptions import ParameterError
+
 __all__ = ['Region', 'HalfPlane', 'Disk', 'Sector']
 
 _TOL = 1e-9
@@ -32,9 +34,9 @@ _TOL = 1e-9
 class Region:
     """An intersection of LMI regions (base class).
 
-    Subclasses define ``_parts``: a list of ``(L, M, margin, grad)`` with
-    ``margin(λ) -> float`` (``<= 0`` inside) and ``grad(λ) -> (dg/dRe,
-    dg/dIm)``.
+    Subclasses define ``_parts``: a list of ``(L, M, margin, grad,
+    boundary)`` with ``margin(λ) -> float`` (``<= 0`` inside), ``grad(λ) ->
+    (dg/dRe, dg/dIm)`` and ``boundary(extent, num) -> [curves]``.
     """
 
     #: 'continuous', 'discrete' or 'any': the time domain the region fits
@@ -49,7 +51,7 @@ class Region:
             return NotImplemented
         domains = {self.domain, other.domain} - {'any'}
         if len(domains) > 1:
-            raise ValueError("cannot intersect a continuous-time region "
+            raise ParameterError("cannot intersect a continuous-time region "
                              "with a discrete-time one")
         out = Region(self._parts + other._parts,
                      f"{self._label} & {other._label}")
@@ -63,19 +65,19 @@ class Region:
 
     def blocks(self):
         """Characteristic matrices ``[(L, M), ...]`` of each part."""
-        return [(np.atleast_2d(L), np.atleast_2d(M))
-                for L, M, _, _ in self._parts]
+        return [(np.atleast_2d(part[0]), np.atleast_2d(part[1]))
+                for part in self._parts]
 
     def margins(self, eigs):
         """Array ``(len(eigs), parts)`` of ``g(λ)``; ``<= 0`` inside."""
         eigs = np.atleast_1d(np.asarray(eigs, dtype=complex))
-        return np.array([[g(lam) for _, _, g, _ in self._parts]
+        return np.array([[part[2](lam) for part in self._parts]
                          for lam in eigs]).reshape(len(eigs), -1)
 
     def margin_gradients(self, eigs):
         """Array ``(len(eigs), parts, 2)`` of ``(dg/dRe λ, dg/dIm λ)``."""
         eigs = np.atleast_1d(np.asarray(eigs, dtype=complex))
-        return np.array([[dg(lam) for _, _, _, dg in self._parts]
+        return np.array([[part[3](lam) for part in self._parts]
                          for lam in eigs]).reshape(len(eigs), -1, 2)
 
     def worst_margin(self, eigs):
@@ -85,6 +87,36 @@ class Region:
     def contains(self, eigs, tol=_TOL):
         """True if every eigenvalue lies in the region (to ``tol``)."""
         return self.worst_margin(eigs) <= tol
+
+    def inside(self, points):
+        """Boolean array: which of ``points`` (complex) lie in the region.
+
+        Vectorised over any array shape (for shading a grid).
+        """
+        pts = np.asarray(points, dtype=complex)
+        flat = pts.ravel()
+        if flat.size == 0:
+            return np.zeros(pts.shape, dtype=bool)
+        return (self.margins(flat).max(axis=1) <= _TOL).reshape(pts.shape)
+
+    def boundary(self, extent, num=400):
+        """Boundary curves of the region's parts inside ``extent``.
+
+        Parameters
+        ----------
+        extent : (re_min, re_max, im_min, im_max)
+            Window of the complex plane.
+        num : int
+            Points per curve.
+
+        Returns
+        -------
+        list of ndarray
+            Complex points along each part's boundary (for plotting).
+        """
+        return [curve for part in self._parts
+                for curve in part[4](extent, num)] \
+            if all(len(part) > 4 for part in self._parts) else []
 
 
 class HalfPlane(Region):
@@ -105,19 +137,27 @@ class HalfPlane(Region):
     domain = 'continuous'
 
     def __init__(self, decay):
-        decay = float(decay)
-        if not np.isfinite(decay) or decay < 0:
-            raise ValueError(f"decay must be a finite number >= 0; found "
-                             f"{decay}")
+        decay = _number(decay, 'decay')
+        if decay < 0:
+            raise ParameterError(f"decay must be a finite number >= 0; "
+                                 f"found {decay}")
         self.decay = decay
+
+        def boundary(extent, num):
+            return [-decay + 1j * np.linspace(extent[2], extent[3], num)]
+
         super().__init__(
             [(2 * decay, 1.0, lambda z: z.real + decay,
-              lambda z: (1.0, 0.0))],
+              lambda z: (1.0, 0.0), boundary)],
             f"HalfPlane(decay={decay:g})")
 
 
 class Disk(Region):
     """The disk ``|s - center| <= radius`` (continuous or discrete time).
+
+    ``domain='discrete'`` marks a disk meant for the z-plane (and
+    ``'continuous'`` one for the s-plane), so that giving it to a plant of
+    the other kind is an error; the default fits either.
 
     Examples
     --------
@@ -126,22 +166,28 @@ class Disk(Region):
     True
     """
 
-    def __init__(self, radius, center=0.0):
-        radius, center = float(radius), float(center)
-        if not np.isfinite(radius) or radius <= 0 or not np.isfinite(center):
-            raise ValueError(f"radius must be a finite number > 0 and center "
-                             f"finite; found radius={radius}, center={center}")
-        self.radius, self.center = radius, center
+    def __init__(self, radius, center=0.0, domain='any'):
+        radius, center = _number(radius, 'radius'), _number(center, 'center')
+        if radius <= 0:
+            raise ParameterError(f"radius must be > 0; found {radius}")
+        if domain not in ('any', 'continuous', 'discrete'):
+            raise ParameterError("domain must be 'any', 'continuous' or "
+                                 f"'discrete'; found {domain!r}")
+        self.radius, self.center, self.domain = radius, center, domain
 
         def grad(z):
             d = z - center
             r = abs(d)
             return (1.0, 0.0) if r == 0 else (d.real / r, d.imag / r)
 
+        def boundary(extent, num):
+            return [center + radius * np.exp(1j * np.linspace(0, 2 * np.pi,
+                                                              num))]
+
         super().__init__(
             [(np.array([[-radius, -center], [-center, -radius]]),
               np.array([[0.0, 1.0], [0.0, 0.0]]),
-              lambda z: abs(z - center) - radius, grad)],
+              lambda z: abs(z - center) - radius, grad, boundary)],
             f"Disk(radius={radius:g}, center={center:g})")
 
 
@@ -159,14 +205,31 @@ class Sector(Region):
     domain = 'continuous'
 
     def __init__(self, damping):
-        damping = float(damping)
+        damping = _number(damping, 'damping')
         if not 0 <= damping < 1:
-            raise ValueError(f"damping must lie in [0, 1); found {damping}")
+            raise ParameterError(f"damping must lie in [0, 1); found "
+                                 f"{damping}")
         self.damping = damping
         th = np.arccos(damping)
         s, c = np.sin(th), np.cos(th)
+        def boundary(extent, num):
+            r = np.linspace(0, max(abs(extent[0]), abs(extent[1]),
+                                   abs(extent[2]), abs(extent[3])) * 2, num)
+            return [r * -np.exp(1j * th), r * -np.exp(-1j * th)]
+
         super().__init__(
             [(np.zeros((2, 2)), np.array([[s, c], [-c, s]]),
               lambda z: s * z.real + c * abs(z.imag),
-              lambda z: (s, c * np.sign(z.imag)))],
+              lambda z: (s, c * np.sign(z.imag)), boundary)],
             f"Sector(damping={damping:g})")
+
+
+def _number(value, name):
+    try:
+        value = float(value)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{name} must be a real number; found "
+                             f"{type(value).__name__}") from exc
+    if not np.isfinite(value):
+        raise ParameterError(f"{name} must be finite; found {value}")
+    return value
