@@ -24,6 +24,12 @@ from .analysis import (spectral_abscissa, log_norm, eig_condition,
                        ISSEstimate, iss_estimate, ConditionCheck,
                        check_lemma_3_2, check_lemma_3_3, check_theorem_3_5,
                        steady_state_error, crossing_time, tradeoff_curve)
+# simulation and design maps  (simulate.py, maps.py)
+from .simulate import simulate
+from .maps import DesignMap, design_map
+# plots (matplotlib, optional)  (plot.py)
+from .plot import (error_plot, estimate_plot, tradeoff_plot,
+                   design_map_plot, pole_region_plot)
 # factories  (design.py)
 from .design import luenberger_observer, hinf_observer, coupled_observer
 
@@ -41,5 +47,7 @@ __all__ = [
     'spectral_abscissa', 'log_norm', 'eig_condition', 'ISSEstimate',
     'iss_estimate', 'ConditionCheck', 'check_lemma_3_2', 'check_lemma_3_3',
     'check_theorem_3_5', 'steady_state_error', 'crossing_time',
-    'tradeoff_curve',
+    'tradeoff_curve', 'simulate', 'DesignMap', 'design_map',
+    'error_plot', 'estimate_plot', 'tradeoff_plot', 'design_map_plot',
+    'pole_region_plot',
 ]

@@ -14,10 +14,20 @@ def main(argv=None):
     parser.add_argument('--no-synthesis', action='store_true',
                         help="only evaluate the published gains (fast); "
                              "skip controlext's own designs")
+    parser.add_argument('--out', default='controlext-paper',
+                        help='folder for the figures (default: %(default)s)')
+    parser.add_argument('--no-figures', action='store_true',
+                        help='print the table only')
     args = parser.parse_args(argv)
     rows = paper_rows(synthesise=not args.no_synthesis)
     print("Li & Sanfelice, Section IV: published numbers and controlext's")
     print(format_table(rows))
+    if not args.no_figures:
+        from .figures import write_all
+        paths = write_all(args.out)
+        print(f"\nfigures written to {args.out}/:")
+        for path in paths:
+            print(f"  {path}")
     bad = [r for r in rows if not r.ok]
     if bad:
         print(f"\n{len(bad)} row(s) do not match the published value",

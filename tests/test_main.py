@@ -17,7 +17,7 @@ def test_published_gains_rows_all_match():
 
 
 def test_main_prints_table(capsys):
-    assert main(['--no-synthesis']) == 0
+    assert main(['--no-synthesis', '--no-figures']) == 0
     out = capsys.readouterr().out
     for value in ('0.4953', '0.2850', '0.0594', '-1.9123', '0.2272'):
         assert value in out

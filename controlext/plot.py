@@ -1,0 +1,231 @@
+"""Plots of observer data (matplotlib, an optional dependency).
+
+Each function draws into a new figure (or the given axes), returns a
+:class:`control.ControlPlot` — python-control's convention, with
+``.lines``, ``.axes`` and ``.figure`` — and never calls ``plt.show()``.
+
+Examples
+--------
+>>> import numpy as np
+>>> import control as ct
+>>> import controlext as cx
+>>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+>>> luen = cx.LuenbergerObserver(plant, [[2.0]])
+>>> resp = cx.simulate(plant, [luen], np.linspace(0, 5, 101), w=0.3,
+...                    x0=3.0, xhat0=5.0)
+>>> cplt = cx.error_plot(resp, labels=['Luenberger'])
+>>> cplt.axes.shape
+(1, 1)
+"""
+
+import numpy as np
+import control as ct
+
+__all__ = ['error_plot', 'estimate_plot', 'tradeoff_plot',
+           'design_map_plot', 'pole_region_plot']
+
+
+def _plt():
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as exc:          # pragma: no cover
+        raise ImportError("plotting needs matplotlib: pip install "
+                          "'controlext[plot]'") from exc
+    return plt
+
+
+def _axes(ax, ncols=1):
+    plt = _plt()
+    if ax is None:
+        fig, ax = plt.subplots(1, ncols, figsize=(6.4 * ncols, 4.2),
+                               squeeze=False)
+        return fig, ax
+    ax = np.atleast_2d(np.asarray(ax, dtype=object))
+    return ax.flat[0].figure, ax
+
+
+def _observer_count(resp):
+    return sum(1 for lb in resp.output_labels if lb.startswith('e') and
+               lb.endswith('[0]'))
+
+
+def error_plot(resp, labels=None, norm=True, ax=None, title=None):
+    """Estimation errors of a :func:`controlext.simulate` response.
+
+    Parameters
+    ----------
+    resp : control.TimeResponseData
+        From :func:`controlext.simulate`.
+    labels : list of str, optional
+        One label per observer.
+    norm : bool, optional
+        Plot ``|e_k(t)|`` (default) instead of each error component.
+    ax : matplotlib axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    control.ControlPlot
+    """
+    fig, ax = _axes(ax)
+    a = ax[0, 0]
+    K = _observer_count(resp)
+    n = sum(1 for lb in resp.output_labels if lb.startswith('x['))
+    labels = labels or [f'observer {k + 1}' for k in range(K)]
+    lines = []
+    for k in range(K):
+        idx = [resp.output_labels.index(f'e{k + 1}[{i}]') for i in range(n)]
+        e = np.atleast_2d(resp.outputs)[idx]
+        if norm:
+            lines += a.plot(resp.time, np.linalg.norm(e, axis=0),
+                            label=labels[k])
+        else:
+            for i in range(n):
+                lines += a.plot(resp.time, e[i], label=f'{labels[k]}, '
+                                f'e[{i}]')
+    a.axhline(0.0, color='0.6', lw=0.8)
+    a.set_xlabel('time t [s]')
+    a.set_ylabel('|e(t)|' if norm else 'e(t)')
+    a.set_title(title or 'Estimation error')
+    a.grid(True, alpha=0.3)
+    legend = a.legend()
+    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
+                          legend=legend)
+
+
+def estimate_plot(resp, labels=None, state=0, ax=None, title=None):
+    """True state and each observer's estimate of one state component."""
+    fig, ax = _axes(ax)
+    a = ax[0, 0]
+    K = _observer_count(resp)
+    labels = labels or [f'observer {k + 1}' for k in range(K)]
+    out = np.atleast_2d(resp.outputs)
+    lines = a.plot(resp.time, out[resp.output_labels.index(f'x[{state}]')],
+                   'r-.', label='plant state')
+    styles = ['b--', 'k-', 'g:', 'm-']
+    for k in range(K):
+        i = resp.output_labels.index(f'xhat{k + 1}[{state}]')
+        lines += a.plot(resp.time, out[i], styles[k % len(styles)],
+                        label=labels[k])
+    a.set_xlabel('time t [s]')
+    a.set_ylabel(f'x[{state}] and estimates')
+    a.set_title(title or 'Plant state and estimates')
+    a.grid(True, alpha=0.3)
+    legend = a.legend()
+    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
+                          legend=legend)
+
+
+def tradeoff_plot(curve, ax=None, title=None):
+    """γ against required decay, one line per number of copies.
+
+    ``curve`` is the dictionary of :func:`controlext.tradeoff_curve`.
+    """
+    fig, ax = _axes(ax)
+    a = ax[0, 0]
+    lines = []
+    markers = {1: 'o-', 2: 's-', 3: '^-'}
+    for N in sorted(k for k in curve if k != 'decay'):
+        name = 'Luenberger (N = 1)' if N == 1 else f'coupled, N = {N}'
+        lines += a.plot(curve['decay'], curve[N], markers.get(N, 'x-'),
+                        label=name)
+    a.set_xlabel('required decay rate σ')
+    a.set_ylabel('H∞ norm γ (noise → error)')
+    a.set_title(title or 'Trade-off: robustness against rate of convergence')
+    a.grid(True, alpha=0.3)
+    legend = a.legend()
+    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
+                          legend=legend)
+
+
+def design_map_plot(dmap, required_decay=None, max_gamma=None, ax=None,
+                    labels=('ℓ1', 'ℓ2'), title=None):
+    """Heat maps of γ and of the decay rate over a design map.
+
+    Draws two panels (γ, decay); with ``required_decay`` the contour
+    ``decay = required_decay`` is drawn on both, and with ``max_gamma``
+    the contour ``γ = max_gamma``.
+    """
+    plt = _plt()
+    fig, ax = _axes(ax, ncols=2)
+    X, Y = np.meshgrid(dmap.x, dmap.y)
+    g = np.where(np.isfinite(dmap.gamma), dmap.gamma, np.nan)
+    top = np.nanpercentile(g, 95) if np.any(np.isfinite(g)) else 1.0
+    panels = [(ax[0, 0], np.clip(g, None, top), 'H∞ norm γ', 'viridis'),
+              (ax[0, 1], np.clip(dmap.decay, 0, None), 'decay rate σ',
+               'magma')]
+    lines = []
+    for a, data, name, cmap in panels:
+        mesh = a.pcolormesh(X, Y, data, shading='auto', cmap=cmap)
+        fig.colorbar(mesh, ax=a, label=name)
+        if required_decay is not None:
+            cs = a.contour(X, Y, dmap.decay, levels=[required_decay],
+                           colors='w', linewidths=1.5)
+            lines.append(cs)
+        if max_gamma is not None:
+            cs = a.contour(X, Y, g, levels=[max_gamma], colors='c',
+                           linewidths=1.5, linestyles='--')
+            lines.append(cs)
+        a.set_xlabel(labels[0])
+        a.set_ylabel(labels[1])
+        a.set_title(name + (f' (white: σ = {required_decay:g})'
+                            if required_decay is not None else ''))
+    if title:
+        fig.suptitle(title)
+    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig)
+
+
+def pole_region_plot(obs_or_poles, region=None, ax=None, extent=None,
+                     title=None, dt=None):
+    """Error poles with the requested region shaded.
+
+    Parameters
+    ----------
+    obs_or_poles : Observer or array_like
+        An observer (its poles and ``report.region`` are used) or poles.
+    region : Region, optional
+        Region to shade (default: the observer's).
+    extent : (re_min, re_max, im_min, im_max), optional
+        Window (default: around the poles and the region).
+    """
+    from .observers import Observer
+    plt = _plt()
+    fig, ax = _axes(ax)
+    a = ax[0, 0]
+    if isinstance(obs_or_poles, Observer):
+        poles = ct.poles(obs_or_poles)
+        region = region if region is not None else obs_or_poles.report.region
+        dt = obs_or_poles.dt
+    else:
+        poles = np.atleast_1d(np.asarray(obs_or_poles, dtype=complex))
+    if extent is None:
+        r = max(1.0, 1.3 * np.max(np.abs(poles))) if poles.size else 1.0
+        extent = (-r, 0.25 * r, -r, r) if not dt else (-1.2, 1.2, -1.2, 1.2)
+    lines = []
+    if region is not None:
+        re = np.linspace(extent[0], extent[1], 300)
+        im = np.linspace(extent[2], extent[3], 300)
+        R, I = np.meshgrid(re, im)
+        mask = region.inside(R + 1j * I)
+        a.contourf(R, I, mask.astype(float), levels=[0.5, 1.5],
+                   colors=['tab:green'], alpha=0.2)
+        for curve in region.boundary(extent):
+            lines += a.plot(curve.real, curve.imag, color='tab:green', lw=1)
+    if dt:
+        th = np.linspace(0, 2 * np.pi, 400)
+        lines += a.plot(np.cos(th), np.sin(th), 'k:', lw=0.8,
+                        label='unit circle')
+    lines += a.plot(poles.real, poles.imag, 'x', ms=9, mew=2,
+                    color='tab:red', label='error poles')
+    a.axhline(0, color='0.6', lw=0.8)
+    a.axvline(0, color='0.6', lw=0.8)
+    a.set_xlim(extent[0], extent[1])
+    a.set_ylim(extent[2], extent[3])
+    a.set_xlabel('Re z' if dt else 'Re s')
+    a.set_ylabel('Im z' if dt else 'Im s')
+    a.set_title(title or (f'Error poles in {region}' if region is not None
+                          else 'Error poles'))
+    a.grid(True, alpha=0.3)
+    legend = a.legend(loc='upper left')
+    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
+                          legend=legend)
