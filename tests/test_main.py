@@ -1,5 +1,6 @@
 """python -m controlext: the reproduction table."""
 
+import os
 import subprocess
 import sys
 
@@ -25,8 +26,18 @@ def test_main_prints_table(capsys):
 
 
 @pytest.mark.slow
-def test_module_entry_point_with_synthesis():
-    proc = subprocess.run([sys.executable, '-m', 'controlext'],
-                          capture_output=True, text=True, timeout=600)
+def test_module_entry_point_with_synthesis_and_figures(tmp_path):
+    out = tmp_path / 'figs'
+    proc = subprocess.run([sys.executable, '-m', 'controlext', '--out',
+                           str(out)], capture_output=True, text=True,
+                          timeout=900, env={**os.environ,
+                                            'MPLBACKEND': 'Agg'})
     assert proc.returncode == 0, proc.stderr
     assert '(refined)' in proc.stdout and 'MISMATCH' not in proc.stdout
+    pngs = sorted(p.name for p in out.glob('*.png'))
+    assert pngs == sorted(['figure2_estimates.png', 'figure3_maps.png',
+                           'figure4_feasible_region.png',
+                           'figure5_errors.png', 'tradeoff.png',
+                           'gi_disturbance.png', 'poles_region.png'])
+    assert all((out / p).stat().st_size > 10_000 for p in pngs)
+    assert proc.stderr == ''          # no progress output off a terminal

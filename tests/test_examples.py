@@ -1,0 +1,29 @@
+"""Every script in examples/ runs headless and writes its figure."""
+
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+EXAMPLES = sorted((pathlib.Path(__file__).parent.parent / 'examples')
+                  .glob('*.py'))
+
+
+def test_there_are_examples():
+    assert len(EXAMPLES) >= 4
+
+
+@pytest.mark.parametrize('script', EXAMPLES, ids=[p.stem for p in EXAMPLES])
+def test_example_runs(script, tmp_path):
+    root = str(pathlib.Path(__file__).parent.parent)
+    env = {**os.environ, 'MPLBACKEND': 'Agg',
+           'PYTHONPATH': root + os.pathsep + os.environ.get('PYTHONPATH',
+                                                            '')}
+    proc = subprocess.run([sys.executable, str(script)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600,
+                          env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip()
+    assert (tmp_path / f'{script.stem}.png').stat().st_size > 5000
