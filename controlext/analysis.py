@@ -101,6 +101,16 @@ def iss_estimate(obs):
 
     The gains are ``|K̃| / |µ(Ã)|`` and ``|C| |K̃| / |µ(Ã)|``; they are
     ``inf`` when ``Ã`` is not dissipative (``µ(Ã) >= 0``).
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> luen = cx.LuenbergerObserver(ct.ss([[-0.5]], [[1.0]], [[1.0]], 0),
+    ...                              [[2.0]])
+    >>> est = cx.iss_estimate(luen)
+    >>> round(est.gain, 4), round(est.rate, 4)
+    (0.8, -2.5)
     """
     mu = log_norm(obs.A)
     nB = np.linalg.norm(obs.B, 2)
@@ -173,6 +183,18 @@ def check_lemma_3_3(luenberger, coupled, alpha0=None, alpha=None,
     For each observer the rate is taken as ``fraction`` of its decay rate
     unless given, and ``P`` is the best-conditioned matrix with
     ``Ãᵀ P + P Ã ≤ −2 α P`` (:func:`controlext.lmi.decay_certificate`).
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> luen = cx.LuenbergerObserver(plant, [[2.0]])
+    >>> pair = cx.CoupledObserver.from_pair(plant, 1.7896, 2.2278, 0.0538,
+    ...                                     -1.1633)
+    >>> res = cx.check_lemma_3_3(luen, pair)
+    >>> sorted(res.conditions)[:2]
+    ['(23) P0 certificate', '(24) P certificate']
     """
     A0, A = luenberger.A, coupled.A
     alpha0 = fraction * -spectral_abscissa(A0) if alpha0 is None else alpha0
@@ -196,7 +218,19 @@ def check_lemma_3_3(luenberger, coupled, alpha0=None, alpha=None,
 
 def check_theorem_3_5(luenberger, coupled):
     """Theorem 3.5: the averaged estimate improves on the Luenberger one if
-    (19)–(22) (with the output maps) or (23)–(26) hold."""
+    (19)–(22) (with the output maps) or (23)–(26) hold.
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> luen = cx.LuenbergerObserver(plant, [[2.0]])
+    >>> pair = cx.CoupledObserver.from_pair(plant, 1.7896, 2.2278, 0.0538,
+    ...                                     -1.1633)
+    >>> cx.check_theorem_3_5(luen, pair).holds
+    True
+    """
     first = check_lemma_3_2(luenberger, coupled, output=True)
     if first:
         return first
@@ -226,6 +260,17 @@ def crossing_time(luenberger, coupled, e0, bias, T=None):
     Simulates both error systems from initial estimation error ``e0`` (in
     every copy) under a constant bias and returns the last time at which
     ``|ē(t)| > |e0(t)|`` (0 if never).
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> luen = cx.LuenbergerObserver(plant, [[2.0]])
+    >>> pair = cx.CoupledObserver.from_pair(plant, 1.7896, 2.2278, 0.0538,
+    ...                                     -1.1633)
+    >>> round(cx.crossing_time(luen, pair, e0=[2.0], bias=0.3), 1)
+    2.0
     """
     e0 = np.atleast_1d(np.asarray(e0, dtype=float))
     if T is None:
@@ -247,6 +292,15 @@ def tradeoff_curve(plant, decays, copies=(1, 2, 3), **kwargs):
 
     Returns ``{'decay': array, N: array of γ, ...}`` (data; plot it with
     the plotting helpers).  Keyword arguments go to the factories.
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> curve = cx.tradeoff_curve(plant, [2.5], copies=(1,))
+    >>> [round(float(g), 4) for g in curve[1]]
+    [0.8]
     """
     from .design import coupled_observer, hinf_observer
     decays = np.asarray(decays, dtype=float)

@@ -140,6 +140,19 @@ class GIObserver(Observer):
     invariant_directions : int
         ``rank Π``: the number of disturbance directions the observer is
         blind to (0 means it equals the classic observer).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-1.0, 1.0], [0.0, -2.0]], [[0.0], [1.0]],
+    ...               [[1.0, 0.0], [1.0, 0.0]], 0)
+    >>> obs = cx.GIObserver(plant, [[1.0, 1.0], [0.5, 0.5]],
+    ...                     [[0.5, 0.2], [0.0, 1.0]], augmented=True,
+    ...                     Lw=[[0.7, 0.7]])
+    >>> bool(np.allclose(ct.dcgain(obs), 0, atol=1e-10))
+    True
     """
 
     def __init__(self, plant, L, Bw, augmented=False, Lw=None, weights=None,

@@ -64,6 +64,18 @@ def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto'):
     Returns
     -------
     DesignMap
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> pair = cx.CoupledObserver.from_pair(plant, 2.0, 2.0, 0.0, 0.0)
+    >>> ell = np.linspace(-6, 6, 200)
+    >>> m = cx.design_map(pair, (0, 1), ell, (1, 0), ell)
+    >>> m.gamma.shape
+    (200, 200)
     """
     from .exceptions import ArgumentError
     xv = np.asarray(xvalues, dtype=float).ravel()

@@ -66,6 +66,17 @@ def error_plot(resp, labels=None, norm=True, ax=None, title=None):
     Returns
     -------
     control.ControlPlot
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> obs = cx.LuenbergerObserver(plant, [[2.0]])
+    >>> resp = cx.simulate(plant, obs, np.linspace(0, 5, 51), x0=1.0)
+    >>> cx.error_plot(resp).axes[0, 0].get_ylabel()
+    '|e(t)|'
     """
     fig, ax = _axes(ax)
     a = ax[0, 0]
@@ -94,7 +105,19 @@ def error_plot(resp, labels=None, norm=True, ax=None, title=None):
 
 
 def estimate_plot(resp, labels=None, state=0, ax=None, title=None):
-    """True state and each observer's estimate of one state component."""
+    """True state and each observer's estimate of one state component.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> obs = cx.LuenbergerObserver(plant, [[2.0]])
+    >>> resp = cx.simulate(plant, obs, np.linspace(0, 5, 51), x0=1.0)
+    >>> len(cx.estimate_plot(resp).lines[0, 0])
+    2
+    """
     fig, ax = _axes(ax)
     a = ax[0, 0]
     K = _observer_count(resp)
@@ -120,6 +143,15 @@ def tradeoff_plot(curve, ax=None, title=None):
     """γ against required decay, one line per number of copies.
 
     ``curve`` is the dictionary of :func:`controlext.tradeoff_curve`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import controlext as cx
+    >>> curve = {'decay': np.array([1.0, 2.0]), 1: np.array([0.5, 0.7]),
+    ...          2: np.array([0.1, 0.3])}
+    >>> cx.tradeoff_plot(curve).axes[0, 0].get_xlabel()
+    'required decay rate σ'
     """
     fig, ax = _axes(ax)
     a = ax[0, 0]
@@ -145,6 +177,18 @@ def design_map_plot(dmap, required_decay=None, max_gamma=None, ax=None,
     Draws two panels (γ, decay); with ``required_decay`` the contour
     ``decay = required_decay`` is drawn on both, and with ``max_gamma``
     the contour ``γ = max_gamma``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> pair = cx.CoupledObserver.from_pair(plant, 2.0, 2.0, 0.0, 0.0)
+    >>> ell = np.linspace(-6, 6, 50)
+    >>> m = cx.design_map(pair, (0, 1), ell, (1, 0), ell)
+    >>> cx.design_map_plot(m, required_decay=2.5).axes.shape
+    (1, 2)
     """
     plt = _plt()
     fig, ax = _axes(ax, ncols=2)
@@ -187,6 +231,13 @@ def pole_region_plot(obs_or_poles, region=None, ax=None, extent=None,
         Region to shade (default: the observer's).
     extent : (re_min, re_max, im_min, im_max), optional
         Window (default: around the poles and the region).
+
+    Examples
+    --------
+    >>> import controlext as cx
+    >>> cplt = cx.pole_region_plot([-2 + 1j, -2 - 1j], cx.HalfPlane(1.0))
+    >>> cplt.axes[0, 0].get_xlabel()
+    'Re s'
     """
     from .observers import Observer
     plt = _plt()

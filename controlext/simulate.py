@@ -61,6 +61,18 @@ def simulate(plant, observers, T, u=0.0, w=0.0, x0=0.0, xhat0=None,
     control.TimeResponseData
         Outputs ``x[i]``, then ``xhat<k>[i]`` and ``e<k>[i]`` for each
         observer ``k = 1, 2, ...``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> pair = cx.CoupledObserver.from_pair(plant, 1.7896, 2.2278, 0.0538,
+    ...                                     -1.1633)
+    >>> resp = cx.simulate(plant, pair, np.linspace(0, 20, 801), w=0.3)
+    >>> round(float(resp.outputs[-1, -1]), 4)
+    0.2272
     """
     if not isinstance(observers, (list, tuple)):
         observers = [observers]
