@@ -15,7 +15,12 @@ def test_there_are_examples():
     assert len(EXAMPLES) >= 4
 
 
-@pytest.mark.parametrize('script', EXAMPLES, ids=[p.stem for p in EXAMPLES])
+HEAVY = {'second_order_tradeoff', 'boeing747_lateral'}
+
+
+@pytest.mark.parametrize('script', [
+    pytest.param(p, marks=pytest.mark.slow) if p.stem in HEAVY else p
+    for p in EXAMPLES], ids=[p.stem for p in EXAMPLES])
 def test_example_runs(script, tmp_path):
     root = str(pathlib.Path(__file__).parent.parent)
     env = {**os.environ, 'MPLBACKEND': 'Agg',
