@@ -287,11 +287,14 @@ def crossing_time(luenberger, coupled, e0, bias, T=None):
     return float(T[worse[-1]]) if worse.size else 0.0
 
 
-def tradeoff_curve(plant, decays, copies=(1, 2, 3), **kwargs):
+def tradeoff_curve(plant, decays, copies=(1, 2, 3), executor=None,
+                   **kwargs):
     """Best H∞ norm against required decay for several numbers of copies.
 
     Returns ``{'decay': array, N: array of γ, ...}`` (data; plot it with
-    the plotting helpers).  Keyword arguments go to the factories.
+    :func:`controlext.tradeoff_plot`).  Keyword arguments go to the
+    factories; ``executor`` (any ``concurrent.futures.Executor``) runs the
+    designs in parallel.
 
     Examples
     --------
@@ -302,14 +305,24 @@ def tradeoff_curve(plant, decays, copies=(1, 2, 3), **kwargs):
     >>> [round(float(g), 4) for g in curve[1]]
     [0.8]
     """
-    from .design import coupled_observer, hinf_observer
     decays = np.asarray(decays, dtype=float)
+    data = (np.array(plant.A), np.array(plant.B), np.array(plant.C),
+            np.array(plant.D), plant.dt)
+    jobs = [(data, float(sigma), N, kwargs) for N in copies
+            for sigma in decays]
+    values = list(executor.map(_tradeoff_point, jobs) if executor
+                  else map(_tradeoff_point, jobs))
     out = {'decay': decays}
-    for N in copies:
-        gammas = []
-        for sigma in decays:
-            obs = hinf_observer(plant, decay=sigma, **kwargs) if N == 1 \
-                else coupled_observer(plant, decay=sigma, copies=N, **kwargs)
-            gammas.append(obs.hinf)
-        out[N] = np.array(gammas)
+    for k, N in enumerate(copies):
+        out[N] = np.array(values[k * len(decays):(k + 1) * len(decays)])
     return out
+
+
+def _tradeoff_point(job):
+    """One design of a trade-off curve (module level: picklable)."""
+    from .design import coupled_observer, hinf_observer
+    (A, B, C, D, dt), sigma, N, kwargs = job
+    plant = ct.ss(A, B, C, D, dt)
+    obs = hinf_observer(plant, decay=sigma, **kwargs) if N == 1 \
+        else coupled_observer(plant, decay=sigma, copies=N, **kwargs)
+    return obs.hinf

@@ -25,7 +25,7 @@ from ._checks import (as_plant, check_decay, check_detectable,
                       check_region_reachable, unobservable_modes, _fmt_mode)
 from .exceptions import ArgumentError, DimensionError, ParameterError, \
     RegionError
-from .lmi import solve_observer_lmi
+from .lmi import _noise_scale, solve_observer_lmi
 from .observers import CoupledObserver, LuenbergerObserver
 from .refine import refine_gain
 from .problem import ObserverProblem
@@ -210,18 +210,24 @@ def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
 
 
 def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
-                     Dw=None, Cz=None, *, region=None, refine=True,
-                     margin=1.02, solver=None, solver_options=None, seed=0,
-                     refine_options=None, name=None):
+                     Dw=None, Cz=None, *, region=None, method='auto',
+                     refine=True, margin=1.02, solver=None,
+                     solver_options=None, seed=0, refine_options=None,
+                     executor=None, name=None):
     """Coupled Luenberger observers minimising the H∞ norm (Li & Sanfelice).
 
-    Solves the convex problem (Theorem 3.10 for ``copies = 2``) and then
-    refines the gains on the true H∞ norm of the error system under the
-    pole-region constraint, from several starts: the LMI solution, the
-    Luenberger-equivalent design ``K_i = L0``, ``L_i = 0`` (with ``L0``
-    from :func:`hinf_observer`), and seeded perturbations of both.  The
-    result is therefore never worse than the best Luenberger observer
-    found for the same region.
+    A convex stage gives a certified design; refinement then minimises the
+    true H∞ norm of the error system under the pole-region constraint from
+    several starts: the convex design, the Luenberger-equivalent design
+    ``K_i = L0``, ``L_i = 0`` (with ``L0`` from :func:`hinf_observer`), and
+    seeded perturbations of both.  The result is therefore never worse
+    than the best Luenberger observer found for the same region.
+
+    The convex stage is, by default (``method='auto'``), the n-state
+    Luenberger LMI embedded as ``K_i = L0``, ``L_i = 0``: it has the same γ
+    as the common-Lyapunov coupled LMI of Theorem 3.10 in every case
+    measured, and its solve time grows as about ``n^3.7`` instead of
+    ``n^4.5``.  ``method='lmi'`` solves Theorem 3.10 (``N n`` states).
 
     Parameters
     ----------
@@ -238,11 +244,17 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
         Noise model (see :class:`LuenbergerObserver`).
     region : Region, optional
         Pole region.
+    method : {'auto', 'lmi'}, optional
+        Convex stage: the embedded n-state LMI (``'auto'``) or the coupled
+        LMI of Theorem 3.10 (``'lmi'``).
     refine : bool, optional
         Run the refinement stage (default).  Without it the result is the
         convex (conservative) design.
     margin, solver, solver_options, seed, refine_options, name : optional
         As for :func:`hinf_observer`.
+    executor : concurrent.futures.Executor, optional
+        Runs the refinement's starts in parallel (results do not depend on
+        it).
 
     Returns
     -------
@@ -272,50 +284,82 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
     check_detectable(A, C, dt)
     if region is not None:
         check_region_reachable(A, C, region, dt)
+    if method not in ('auto', 'lmi'):
+        raise ArgumentError(f"method must be 'auto' or 'lmi'; found "
+                            f"{method!r}")
+    common = dict(Bw=prob.Bw, Dw=prob.Dw, Cz=prob.Cz, region=region,
+                  margin=margin, solver=solver, solver_options=solver_options,
+                  seed=seed)
+    embed = lambda L: np.kron(np.eye(copies), L)
+    convex = None
+    if method == 'auto':
+        base = hinf_observer(plant, refine=False, **common)
+        rep = base.report
+        convex = (embed(base.L), dict(gamma_opt=rep.gamma_opt,
+                                      gamma_bound=rep.gamma_bound,
+                                      solver=rep.solver, status=rep.status,
+                                      stats={'luenberger': rep.stats}))
     extra = []
     if refine:
-        single = hinf_observer(plant, Bw=prob.Bw, Dw=prob.Dw, Cz=prob.Cz,
-                               region=region, margin=margin, solver=solver,
-                               solver_options=solver_options, seed=seed,
-                               refine_options=refine_options)
-        extra.append(('luenberger', np.kron(np.eye(copies), single.L)))
+        single = hinf_observer(plant, refine_options=refine_options,
+                               **common)
+        extra.append(('luenberger', embed(single.L)))
     G, report = synthesise(prob, region, refine=refine, margin=margin,
                            solver=solver, solver_options=solver_options,
                            seed=seed, extra_starts=extra,
-                           refine_options=refine_options)
+                           refine_options=refine_options, convex=convex,
+                           executor=executor)
     report.time = time.perf_counter() - start
     return CoupledObserver(plant, G, prob.weights, prob.Bw, prob.Dw, prob.Cz,
                            name=name, report=report)
 
 
 def synthesise(prob, region, *, refine, margin, solver, solver_options,
-               seed, extra_starts=(), refine_options=None):
-    """LMI, then (optionally) refinement; return the best verified gain.
+               seed, extra_starts=(), refine_options=None, convex=None,
+               executor=None):
+    """Convex stage, then (optionally) refinement; return the best
+    verified gain.
 
-    Candidates are the LMI gain, the refined gain and ``extra_starts``;
-    each is verified (poles in the region, true norm) and the one with the
-    smallest true H∞ norm is returned with its report.
+    The convex stage is the engine's LMI on ``prob`` unless ``convex =
+    (G, info)`` gives an already certified design.  Candidates are the
+    convex gain, the refined gain and ``extra_starts``; each is verified
+    (poles in the region, true norm) and the one with the smallest true
+    H∞ norm is returned with its report.
     """
-    sol = solve_observer_lmi(prob, region, margin, solver, solver_options)
-    info = dict(gamma_opt=sol.gamma_opt, solver=sol.stats['solver'],
-                status=sol.status)
-    stats = {'lmi': sol.stats}
-    best = verify_design(prob, sol.G, region, gamma_bound=sol.gamma_bound,
-                         method='lmi', stage='lmi', stats=stats, **info)
-    G = sol.G
+    if convex is None:
+        sol = solve_observer_lmi(prob, region, margin, solver,
+                                 solver_options)
+        G = sol.G
+        info = dict(gamma_opt=sol.gamma_opt, solver=sol.stats['solver'],
+                    status=sol.status)
+        bound, stats = sol.gamma_bound, {'lmi': sol.stats}
+    else:
+        G, info = convex
+        info = dict(info)
+        bound, stats = info.pop('gamma_bound'), info.pop('stats')
+    best = verify_design(prob, G, region, gamma_bound=bound, method='lmi',
+                         stage='lmi', stats=stats, **info)
     if not refine:
         return G, best
-    res = refine_gain(prob, region, [('lmi', sol.G)] + list(extra_starts),
-                      seed=seed, **dict(refine_options or {}))
+    options = dict(refine_options or {})
+    options.setdefault('executor', executor)
+    res = refine_gain(prob, region, [('lmi', G)] + list(extra_starts),
+                      seed=seed, **options)
     stats['refine'] = dict(start=res.start, starts=res.starts,
                            evaluations=res.evaluations, time=res.time)
     candidates = [(res.G, 'refined')] + [(Gs, label)
                                          for label, Gs in extra_starts]
-    for Gc, stage in candidates:
-        rep = verify_design(prob, Gc, region, method='lmi+refine',
-                            stage=stage, stats=stats, **info)
-        if rep.hinf < best.hinf:
-            best, G = rep, Gc
+    verified = [(best, G)] + [
+        (verify_design(prob, Gc, region, method='lmi+refine', stage=stage,
+                       stats=stats, **info), Gc) for Gc, stage in candidates]
+    # the smallest true norm wins; designs equal to within a tolerance are
+    # ranked by gain norm (when γ* is not attained, or is 0, the last bits
+    # of γ cost unbounded gains)
+    lowest = min(rep.hinf for rep, _ in verified)
+    tol = max(1e-3 * lowest, 1e-4 * _noise_scale(prob))
+    best, G = min(((rep, Gc) for rep, Gc in verified
+                   if rep.hinf <= lowest + tol),
+                  key=lambda item: np.linalg.norm(item[1], 2))
     best.method = 'lmi+refine'
     return G, best
 

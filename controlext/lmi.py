@@ -14,7 +14,9 @@ The gain is ``G = X⁻¹ Y``. On plants with unstable modes the optimal γ is
 usually not attained and ``X`` tends to singular, so the engine solves in
 two stages: stage 1 finds ``γ*``; stage 2 fixes ``γ = margin · γ*`` and
 maximises the smallest eigenvalue of ``X`` (with ``X ≤ λmax(X₁) I`` so the
-problem stays bounded), which keeps ``G`` of moderate norm.
+problem stays bounded), which keeps ``G`` of moderate norm.  The level of
+stage 2 is at least ``γ* + (margin − 1) · 10⁻³ · ‖Cze‖ (‖Bwe‖ + ‖Dwe‖)``,
+so a problem whose optimum is ``γ* = 0`` still gets a moderate gain.
 
 The returned certificate always comes from a solve that ended ``optimal``;
 anything else raises :class:`~controlext.exceptions.SolverError` with the
@@ -117,8 +119,11 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
         inexact = stage1.status != cp.OPTIMAL
         tries = (margin, 1.05 * margin, 1.25 * margin) if inexact else \
             (margin,)
+        # an absolute floor: when γ* is ~0 (the noise can be cancelled
+        # exactly) margin·γ* would still demand γ ≈ 0 and a huge gain
+        floor = (margin - 1) * 1e-3 * _noise_scale(problem)
         for k, factor in enumerate(tries):
-            gbound = max(factor * gamma_opt, gamma_opt + 1e-9)
+            gbound = max(factor * gamma_opt, gamma_opt + floor)
             t = cp.Variable()
             stage2 = cp.Problem(cp.Maximize(t), cons + [
                 brl(cp.Constant(gbound)), X >> t * np.eye(n),
@@ -141,6 +146,13 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
     G = np.linalg.solve(Xv, Yv)
     return LMISolution(G=G, gamma_opt=gamma_opt, gamma_bound=gbound, X=Xv,
                        Y=Yv, status='optimal', stats=stats)
+
+
+def _noise_scale(problem):
+    """Size of the noise-to-error channel: ‖Cze‖ (‖Bwe‖ + ‖Dwe‖)."""
+    return float(np.linalg.norm(problem.Cze, 2) *
+                 (np.linalg.norm(problem.Bwe, 2) +
+                  np.linalg.norm(problem.Dwe, 2)))
 
 
 def _build(problem, region):

@@ -47,7 +47,8 @@ class DesignMap:
     yentry: tuple
 
 
-def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto'):
+def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto',
+               executor=None):
     """H∞ norm and decay rate over a grid of two gain entries.
 
     Parameters
@@ -60,6 +61,8 @@ def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto'):
         Values of those entries.
     method : {'auto', 'closed', 'batched'}
         ``'closed'`` needs a SISO error system of order ``<= 2``.
+    executor : concurrent.futures.Executor, optional
+        Splits the grid into row blocks evaluated in parallel.
 
     Returns
     -------
@@ -80,8 +83,29 @@ def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto'):
     from .exceptions import ArgumentError
     xv = np.asarray(xvalues, dtype=float).ravel()
     yv = np.asarray(yvalues, dtype=float).ravel()
-    prob = obs.problem
-    G = np.broadcast_to(obs.G, (len(yv), len(xv)) + obs.G.shape).copy()
+    if method not in ('auto', 'closed', 'batched'):
+        raise ArgumentError(f"method must be 'auto', 'closed' or 'batched'; "
+                            f"found {method!r}")
+    if executor is not None and len(yv) > 1:
+        blocks = np.array_split(yv, min(len(yv), 8))
+        parts = list(executor.map(_map_block, [
+            (obs.problem, obs.G, xentry, xv, yentry, b, method)
+            for b in blocks if b.size]))
+        return DesignMap(xv, yv, np.vstack([g for g, _ in parts]),
+                         np.vstack([d for _, d in parts]), tuple(xentry),
+                         tuple(yentry))
+    gamma, decay = _map_values(obs.problem, obs.G, xentry, xv, yentry, yv,
+                               method)
+    return DesignMap(xv, yv, gamma, decay, tuple(xentry), tuple(yentry))
+
+
+def _map_block(args):
+    return _map_values(*args)
+
+
+def _map_values(prob, obs_G, xentry, xv, yentry, yv, method):
+    from .exceptions import ArgumentError
+    G = np.broadcast_to(obs_G, (len(yv), len(xv)) + obs_G.shape).copy()
     G[:, :, xentry[0], xentry[1]] = xv[None, :]
     G[:, :, yentry[0], yentry[1]] = yv[:, None]
     Acl = prob.Ae - G @ prob.Ce
@@ -100,15 +124,11 @@ def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto'):
     if method == 'closed' and not (siso and not prob.dt):
         raise ArgumentError("method='closed' needs a continuous SISO error "
                             "system of order <= 2")
-    if method not in ('auto', 'closed', 'batched'):
-        raise ArgumentError(f"method must be 'auto', 'closed' or 'batched'; "
-                            f"found {method!r}")
     if siso and not prob.dt and method != 'batched':
         gamma = _closed_form(Acl, Bcl, Ccl)
     else:
         gamma = _batched(Acl, Bcl, Ccl, prob.dt)
-    gamma = np.where(stable, gamma, np.inf)
-    return DesignMap(xv, yv, gamma, decay, tuple(xentry), tuple(yentry))
+    return np.where(stable, gamma, np.inf), decay
 
 
 def _closed_form(A, B, C):

@@ -83,15 +83,12 @@ class _Objective:
         """Worst region margin and its gradient with respect to G."""
         if self.region is None:
             return -np.inf, np.zeros_like(G)
-        lam, left, right = eig if eig is not None else \
-            la.eig(self.Ae - G @ self.Ce, left=True, right=True)
+        lam, right, left_h = eig if eig is not None else \
+            _eig(self.Ae - G @ self.Ce)
         m = self.region.margins(lam)
         i, j = np.unravel_index(np.argmax(m), m.shape)
-        x, y = right[:, i], left[:, i]
-        s = np.vdot(y, x)
-        if abs(s) < 1e-12:
-            s = 1e-12
-        dlam = -np.outer(y.conj(), self.Ce @ x) / s
+        # rows of V⁻¹ are the left eigenvectors yᴴ with yᴴ x = 1
+        dlam = -np.outer(left_h[i], self.Ce @ right[:, i])
         dre, dim = self.region.margin_gradients(lam[i:i + 1])[0, j]
         return float(m[i, j]), dre * dlam.real + dim * dlam.imag
 
@@ -114,7 +111,7 @@ class _Objective:
     def __call__(self, x):
         self.count += 1
         G = x.reshape(self.shape)
-        eig = la.eig(self.Ae - G @ self.Ce, left=True, right=True)
+        eig = _eig(self.Ae - G @ self.Ce)
         gamma, grad = self.norm(G, poles=eig[0])
         if not np.isfinite(gamma):
             return np.inf, np.zeros_like(x)
@@ -127,11 +124,24 @@ class _Objective:
         return value, grad.ravel()
 
 
-def _bfgs(f, x0, maxiter, stop=None):
+def _eig(A):
+    """Eigenvalues, right eigenvectors and their inverse (left ones)."""
+    lam, V = np.linalg.eig(A)
+    try:
+        Vi = np.linalg.inv(V)
+    except np.linalg.LinAlgError:
+        Vi = np.linalg.pinv(V)
+    return lam, V, Vi
+
+
+def _bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7):
     """BFGS with a weak-Wolfe bisection line search (Lewis & Overton).
 
     ``f`` returns ``(value, gradient)`` and may return ``inf`` outside its
-    domain.  ``stop(x, fx)`` ends the run early when it returns True.
+    domain.  ``stop(x, fx)`` ends the run early when it returns True; the
+    run also ends when ``stall`` iterations improved ``f`` by less than
+    ``stall_tol`` (relative): on a nonsmooth objective BFGS otherwise keeps
+    creeping towards the kink.
     """
     x = np.array(x0, dtype=float)
     fx, gx = f(x)
@@ -139,8 +149,12 @@ def _bfgs(f, x0, maxiter, stop=None):
         return x, fx
     nvar = x.size
     H = np.eye(nvar) / max(1.0, np.linalg.norm(gx))
+    history = [fx]
     for _ in range(maxiter):
         if stop is not None and stop(x, fx):
+            break
+        if len(history) > stall and \
+                history[-stall - 1] - fx <= stall_tol * abs(fx):
             break
         d = -H @ gx
         if gx @ d >= 0:
@@ -164,6 +178,7 @@ def _bfgs(f, x0, maxiter, stop=None):
             break
         s, y = xn - x, gn - gx
         x, fx, gx = xn, fn, gn
+        history.append(fx)
         sy = s @ y
         if sy > 1e-16:
             rho = 1.0 / sy
@@ -189,9 +204,45 @@ def _make_feasible(obj, G, target, maxiter=200):
     return G if obj.margin(G)[0] <= target else None
 
 
-def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
-                screen_iterations=40, polish=4, maxiter=600, restarts=3,
-                delta=1e-7, rho=None, tikhonov=1e-5):
+def _map(executor, fn, args):
+    if executor is None:
+        return map(fn, args)
+    return executor.map(fn, args)
+
+
+def _screen(args):
+    """Make a start feasible and run a short BFGS (picklable worker)."""
+    obj, G, delta, iterations = args
+    before = obj.count
+    G = _make_feasible(obj, G, -10 * delta)
+    if G is None:
+        return np.inf, None, obj.count - before
+    x, fx = _bfgs(obj, G.ravel(), iterations, stall=8, stall_tol=1e-6)
+    if not np.isfinite(fx):
+        return np.inf, None, obj.count - before
+    return fx, x, obj.count - before
+
+
+def _polish(args):
+    """Long BFGS with restarts, then strict feasibility (worker)."""
+    obj, x, maxiter, restarts = args
+    before = obj.count
+    fx = obj(x)[0]
+    for _ in range(1 + restarts):
+        x, fnew = _bfgs(obj, x, maxiter, stall=30, stall_tol=1e-9)
+        done = not fnew < fx - 1e-7 * abs(fx)
+        fx = fnew
+        if done:
+            break
+    G = _make_feasible(obj, x.reshape(obj.shape), 0.0)
+    if G is None:
+        return np.inf, None, obj.count - before
+    return obj.norm(G)[0], G, obj.count - before
+
+
+def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
+                screen_iterations=25, polish=6, maxiter=600, restarts=3,
+                delta=1e-7, rho=None, tikhonov=1e-5, executor=None):
     """Minimise the true H∞ norm over the gain, inside ``region``.
 
     Parameters
@@ -205,6 +256,8 @@ def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
         Luenberger-equivalent design).
     random_starts : int, optional
         Extra starts: seeded random perturbations of the given ones.
+        Default: 32 for up to 16 gain entries, scaled down in proportion
+        to the number of entries for larger gains (at least 4).
     seed : int, optional
         Seed of those perturbations (results are reproducible).
     screen_iterations, polish, maxiter, restarts : int, optional
@@ -226,12 +279,22 @@ def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
         grows without bound; this term (which changes γ by about
         ``tikhonov`` relative) keeps the gain finite.
 
+    executor : concurrent.futures.Executor, optional
+        Runs the screening and polishing of the starts in parallel (any
+        executor: a ``ProcessPoolExecutor``, or a Dask/Ray one).  The
+        result does not depend on it.
+
     Returns
     -------
     RefineResult
     """
     t0 = time.perf_counter()
     shape = problem.gain_shape
+    nvar = shape[0] * shape[1]
+    if random_starts is None:
+        random_starts = max(4, int(round(32 * min(1.0, 16.0 / nvar))))
+    if nvar > 64:
+        polish = min(polish, 2)
     starts = [(label, np.array(G, dtype=float).reshape(shape))
               for label, G in starts]
     rng = np.random.default_rng(seed)
@@ -255,28 +318,18 @@ def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
     reg = tikhonov * max(g0, 1e-3) / max(1.0, float(np.sum(G1 * G1)))
     obj = _Objective(problem, region, shape, rho, delta, reg)
 
-    screened = []
-    for label, G in starts:
-        G = _make_feasible(obj, G, -10 * delta)
-        if G is None:
-            continue
-        x, fx = _bfgs(obj, G.ravel(), screen_iterations)
-        if np.isfinite(fx):
-            screened.append((fx, label, x))
-    screened.sort(key=lambda item: item[0])
+    runs = list(_map(executor, _screen, [
+        (obj, G, delta, screen_iterations) for _, G in starts]))
+    screened = sorted(((fx, label, x) for (label, _), (fx, x, count)
+                       in zip(starts, runs) if x is not None),
+                      key=lambda item: item[0])
+    evaluations = probe.count + sum(count for _, _, count in runs)
+    polished = list(_map(executor, _polish, [
+        (obj, x, maxiter, restarts) for _, _, x in screened[:polish]]))
     results = []
-    for fx, label, x in screened[:polish]:
-        for _ in range(1 + restarts):
-            x, fnew = _bfgs(obj, x, maxiter)
-            done = not fnew < fx - 1e-7 * abs(fx)
-            fx = fnew
-            if done:
-                break
-        G = _make_feasible(obj, x.reshape(shape), 0.0)
-        if G is None:
-            continue
-        gamma = obj.norm(G)[0]
-        if np.isfinite(gamma):
+    for (_, label, _), (gamma, G, count) in zip(screened, polished):
+        evaluations += count
+        if G is not None and np.isfinite(gamma):
             results.append((gamma, label, G))
     if not results:
         raise VerificationError(
@@ -286,5 +339,5 @@ def refine_gain(problem, region, starts, *, random_starts=16, seed=0,
     gamma, label, G = results[0]
     return RefineResult(G=G, gamma=float(gamma), start=label,
                         starts=[(lb, float(g)) for g, lb, _ in results],
-                        evaluations=obj.count + probe.count,
+                        evaluations=evaluations,
                         time=time.perf_counter() - t0)

@@ -22,6 +22,8 @@ True
 False
 """
 
+from functools import partial
+
 import numpy as np
 
 from .exceptions import ParameterError
@@ -142,13 +144,9 @@ class HalfPlane(Region):
             raise ParameterError(f"decay must be a finite number >= 0; "
                                  f"found {decay}")
         self.decay = decay
-
-        def boundary(extent, num):
-            return [-decay + 1j * np.linspace(extent[2], extent[3], num)]
-
         super().__init__(
-            [(2 * decay, 1.0, lambda z: z.real + decay,
-              lambda z: (1.0, 0.0), boundary)],
+            [(2 * decay, 1.0, partial(_half_margin, decay), _half_grad,
+              partial(_half_boundary, decay))],
             f"HalfPlane(decay={decay:g})")
 
 
@@ -174,20 +172,12 @@ class Disk(Region):
             raise ParameterError("domain must be 'any', 'continuous' or "
                                  f"'discrete'; found {domain!r}")
         self.radius, self.center, self.domain = radius, center, domain
-
-        def grad(z):
-            d = z - center
-            r = abs(d)
-            return (1.0, 0.0) if r == 0 else (d.real / r, d.imag / r)
-
-        def boundary(extent, num):
-            return [center + radius * np.exp(1j * np.linspace(0, 2 * np.pi,
-                                                              num))]
-
         super().__init__(
             [(np.array([[-radius, -center], [-center, -radius]]),
               np.array([[0.0, 1.0], [0.0, 0.0]]),
-              lambda z: abs(z - center) - radius, grad, boundary)],
+              partial(_disk_margin, radius, center),
+              partial(_disk_grad, center),
+              partial(_disk_boundary, radius, center))],
             f"Disk(radius={radius:g}, center={center:g})")
 
 
@@ -212,16 +202,53 @@ class Sector(Region):
         self.damping = damping
         th = np.arccos(damping)
         s, c = np.sin(th), np.cos(th)
-        def boundary(extent, num):
-            r = np.linspace(0, max(abs(extent[0]), abs(extent[1]),
-                                   abs(extent[2]), abs(extent[3])) * 2, num)
-            return [r * -np.exp(1j * th), r * -np.exp(-1j * th)]
-
         super().__init__(
             [(np.zeros((2, 2)), np.array([[s, c], [-c, s]]),
-              lambda z: s * z.real + c * abs(z.imag),
-              lambda z: (s, c * np.sign(z.imag)), boundary)],
+              partial(_sector_margin, s, c), partial(_sector_grad, s, c),
+              partial(_sector_boundary, th))],
             f"Sector(damping={damping:g})")
+
+
+# margins, gradients and boundaries of the parts (module level so that
+# regions pickle, e.g. for a ProcessPoolExecutor)
+
+def _half_margin(decay, z):
+    return z.real + decay
+
+
+def _half_grad(z):
+    return (1.0, 0.0)
+
+
+def _half_boundary(decay, extent, num):
+    return [-decay + 1j * np.linspace(extent[2], extent[3], num)]
+
+
+def _disk_margin(radius, center, z):
+    return abs(z - center) - radius
+
+
+def _disk_grad(center, z):
+    d = z - center
+    r = abs(d)
+    return (1.0, 0.0) if r == 0 else (d.real / r, d.imag / r)
+
+
+def _disk_boundary(radius, center, extent, num):
+    return [center + radius * np.exp(1j * np.linspace(0, 2 * np.pi, num))]
+
+
+def _sector_margin(s, c, z):
+    return s * z.real + c * abs(z.imag)
+
+
+def _sector_grad(s, c, z):
+    return (s, c * np.sign(z.imag))
+
+
+def _sector_boundary(th, extent, num):
+    r = np.linspace(0, 2 * max(abs(e) for e in extent), num)
+    return [r * -np.exp(1j * th), r * -np.exp(-1j * th)]
 
 
 def _number(value, name):

@@ -170,11 +170,51 @@ def test_report_says_which_stage(designs):
 
 
 def test_refine_false_returns_the_convex_design(scalar_plant):
-    obs = cx.coupled_observer(scalar_plant, decay=2.5, refine=False)
+    obs = cx.coupled_observer(scalar_plant, decay=2.5, refine=False,
+                              method='lmi')
     assert obs.report.stage == 'lmi'
     # Theorem 3.10 alone is no better than Luenberger (γ0 = 0.8)
     assert obs.report.gamma_opt == pytest.approx(0.8, abs=1e-3)
     assert obs.hinf <= obs.report.gamma_bound * (1 + 1e-5)
+
+
+@pytest.mark.parametrize('plant_name, sigma', [('scalar', 2.5),
+                                               ('second', 1.0)])
+def test_embedded_convex_stage_never_worse_than_theorem_3_10(
+        plant_name, sigma, scalar_plant, second_order_plant):
+    plant = scalar_plant if plant_name == 'scalar' else second_order_plant
+    auto = cx.coupled_observer(plant, decay=sigma, refine=False)
+    lmi = cx.coupled_observer(plant, decay=sigma, refine=False,
+                              method='lmi')
+    # the embedded Luenberger LMI certifies the same level as Theorem 3.10
+    assert auto.report.gamma_opt <= lmi.report.gamma_opt * (1 + 1e-6)
+    assert auto.hinf <= auto.report.gamma_bound * (1 + 1e-5)
+    assert np.max(ct.poles(auto).real) <= -sigma + 1e-6
+    # it is K_i = L0, L_i = 0: the coupling blocks are zero
+    np.testing.assert_allclose(auto.L1, 0)
+    np.testing.assert_allclose(auto.L2, 0)
+    np.testing.assert_allclose(auto.K1, auto.K2)
+
+
+def test_executor_gives_the_same_design(scalar_plant):
+    from concurrent.futures import ProcessPoolExecutor
+    serial = cx.coupled_observer(scalar_plant, decay=2.5,
+                                 refine_options={'random_starts': 4})
+    with ProcessPoolExecutor(max_workers=2) as pool:
+        parallel = cx.coupled_observer(scalar_plant, decay=2.5,
+                                       executor=pool,
+                                       refine_options={'random_starts': 4})
+        curve = cx.tradeoff_curve(scalar_plant, [1.0, 2.5], copies=(1,),
+                                  executor=pool)
+        ell = np.linspace(-6, 6, 31)
+        pair = cx.CoupledObserver.from_pair(scalar_plant, 2.0, 2.0, 0.0, 0.0)
+        dmap = cx.design_map(pair, (0, 1), ell, (1, 0), ell, executor=pool)
+    np.testing.assert_allclose(parallel.Mu, serial.Mu, rtol=1e-12)
+    # scalar Luenberger optimum: k0 = σ + a, γ = (σ + a)/σ (closed form)
+    np.testing.assert_allclose(curve[1], [0.5, 0.8], rtol=1e-4)
+    ref = cx.design_map(pair, (0, 1), ell, (1, 0), ell)
+    np.testing.assert_array_equal(dmap.gamma, ref.gamma)
+    np.testing.assert_array_equal(dmap.decay, ref.decay)
 
 
 def test_coupled_estimator_converges(second_order_plant):
