@@ -111,7 +111,7 @@ def _map_values(prob, obs_G, xentry, xv, yentry, yv, method):
     Acl = prob.Ae - G @ prob.Ce
     Bcl = G @ prob.Dwe - prob.Bwe
     Ccl = prob.Cze
-    eig = np.linalg.eigvals(Acl)
+    eig = _eigvals(Acl)
     if prob.dt:
         step = 1.0 if prob.dt is True else float(prob.dt)
         rho = np.max(np.abs(eig), axis=-1)
@@ -129,6 +129,19 @@ def _map_values(prob, obs_G, xentry, xv, yentry, yv, method):
     else:
         gamma = _batched(Acl, Bcl, Ccl, prob.dt)
     return np.where(stable, gamma, np.inf), decay
+
+
+def _eigvals(A):
+    """Eigenvalues of stacked matrices (closed form for 1 × 1, 2 × 2)."""
+    n = A.shape[-1]
+    if n == 1:
+        return A[..., 0].astype(complex)
+    if n == 2:
+        half = 0.5 * (A[..., 0, 0] + A[..., 1, 1])
+        det = A[..., 0, 0] * A[..., 1, 1] - A[..., 0, 1] * A[..., 1, 0]
+        root = np.sqrt((half**2 - det).astype(complex))
+        return np.stack([half + root, half - root], axis=-1)
+    return np.linalg.eigvals(A)
 
 
 def _closed_form(A, B, C):
