@@ -256,8 +256,8 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
         Luenberger-equivalent design).
     random_starts : int, optional
         Extra starts: seeded random perturbations of the given ones.
-        Default: 32 for up to 16 gain entries, scaled down in proportion
-        to the number of entries for larger gains (at least 4).
+        Default: 32 for up to 16 gain entries, ``32 (16/entries)^1.5``
+        (at least 4) for larger gains; ``polish`` shrinks likewise.
     seed : int, optional
         Seed of those perturbations (results are reproducible).
     screen_iterations, polish, maxiter, restarts : int, optional
@@ -291,18 +291,19 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
     t0 = time.perf_counter()
     shape = problem.gain_shape
     nvar = shape[0] * shape[1]
+    shrink = min(1.0, 16.0 / nvar)      # 1 for the small problems
     if random_starts is None:
-        random_starts = max(4, int(round(32 * min(1.0, 16.0 / nvar))))
-    if nvar > 64:
-        polish = min(polish, 2)
+        random_starts = max(4, int(round(32 * shrink**1.5)))
+    polish = min(polish, max(2, int(round(polish * shrink))))
     starts = [(label, np.array(G, dtype=float).reshape(shape))
               for label, G in starts]
     rng = np.random.default_rng(seed)
     given = list(starts)
     for k in range(random_starts):
         label, base = given[k % len(given)]
-        scale = max(1.0, np.linalg.norm(base)) * (0.3 if k < random_starts
-                                                  // 2 else 1.0)
+        # per-entry size: ‖base‖ spread over the entries of large gains
+        scale = max(1.0, np.linalg.norm(base)) * np.sqrt(shrink) * \
+            (0.3 if k < random_starts // 2 else 1.0)
         starts.append((f'{label}+random{k}',
                        base + scale * rng.normal(size=shape)))
     probe = _Objective(problem, region, shape, 0.0, delta)
