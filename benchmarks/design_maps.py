@@ -4,6 +4,8 @@
    (ℓ1, ℓ2): the closed form against the loop.
 2. A 4-state error system (the second-order coupled pair of Section IV-B)
    over a 40 × 40 grid: the batched evaluation against the loop.
+3. An 8-state MIMO error system (a coupled pair on the Boeing 747 lateral
+   model of examples/boeing747_lateral.py) over a 30 × 30 grid.
 
     python benchmarks/design_maps.py
 """
@@ -54,6 +56,16 @@ def main():
     obs = cx.CoupledObserver(second_order_plant(), MU_SECOND_ORDER)
     compare('2nd-order pair, 40 x 40 (batched)', obs, (1, 1),
             np.linspace(-1, 1, 40), (2, 0), np.linspace(-1.5, 0.5, 40))
+    A = [[-0.0558, -0.9968, 0.0802, 0.0415], [0.5980, -0.1150, -0.0318, 0],
+         [-3.0500, 0.3880, -0.4650, 0], [0, 0.0805, 1.0000, 0]]
+    B = [[0.0073, 0], [-0.4750, 0.0077], [0.1530, 0.1430], [0, 0]]
+    C = [[0, 1, 0, 0], [0, 0, 0, 1]]
+    plant = ct.ss(A, B, C, np.zeros((2, 2)))
+    L = cx.luenberger_observer(plant, [-1, -1.5, -2, -2.5]).L
+    jet = cx.CoupledObserver(plant, np.kron(np.eye(2), L))
+    compare('747 pair, 8 states, 30 x 30', jet, (0, 2),
+            L[0, 0] + np.linspace(-1, 1, 30), (4, 1),
+            np.linspace(-1, 1, 30))
 
 
 if __name__ == '__main__':

@@ -141,3 +141,23 @@ def test_cheap_figures_draw(name):
     fig = getattr(figures, name)()
     assert fig.axes and all(a.get_xlabel() for a in fig.axes
                             if a.get_label() != '<colorbar>')
+
+
+def test_design_map_mimo_error_system():
+    """8-state error system with 2 noise inputs and 4 outputs (the 2 × 2
+    closed form for the largest singular value)."""
+    A = [[-0.0558, -0.9968, 0.0802, 0.0415], [0.5980, -0.1150, -0.0318, 0],
+         [-3.0500, 0.3880, -0.4650, 0], [0, 0.0805, 1.0000, 0]]
+    B = [[0.0073, 0], [-0.4750, 0.0077], [0.1530, 0.1430], [0, 0]]
+    C = [[0, 1, 0, 0], [0, 0, 0, 1]]
+    plant = ct.ss(A, B, C, np.zeros((2, 2)))
+    L = cx.luenberger_observer(plant, [-1, -1.5, -2, -2.5]).L
+    obs = cx.CoupledObserver(plant, np.kron(np.eye(2), L))
+    xs = L[0, 0] + np.linspace(-1, 1, 5)
+    ys = np.linspace(-1, 1, 4)
+    m = cx.design_map(obs, (0, 2), xs, (4, 1), ys)
+    g, d = loop_map(obs, (0, 2), xs, (4, 1), ys)
+    fin = np.isfinite(g)
+    assert fin.sum() >= 10
+    np.testing.assert_allclose(m.gamma[fin], g[fin], rtol=1e-6)
+    np.testing.assert_allclose(m.decay, d, atol=1e-9)
