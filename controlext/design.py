@@ -23,8 +23,8 @@ import control as ct
 
 from ._checks import (as_plant, check_decay, check_detectable,
                       check_region_reachable, unobservable_modes, _fmt_mode)
-from .exceptions import ArgumentError, DimensionError, ParameterError, \
-    RegionError
+from .exceptions import (ArgumentError, DimensionError, ParameterError,
+                         RegionError, VerificationError)
 from .lmi import _noise_scale, solve_observer_lmi
 from .observers import CoupledObserver, LuenbergerObserver
 from .refine import refine_gain
@@ -96,7 +96,6 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
     placed = np.linalg.eigvals(A - L @ C)
     err = _match_error(placed, poles)
     if err > 1e-6 * max(1.0, np.max(np.abs(poles))):
-        from .exceptions import VerificationError
         raise VerificationError(
             f"placed poles {np.round(placed, 6).tolist()} miss the requested "
             f"{np.round(poles, 6).tolist()} by {err:.3g}")
