@@ -25,7 +25,7 @@ from ._checks import (as_plant, check_decay, check_detectable,
                       check_region_reachable, unobservable_modes, _fmt_mode)
 from .exceptions import (ArgumentError, DimensionError, ParameterError,
                          RegionError, VerificationError)
-from .lmi import _noise_scale, solve_observer_lmi
+from .lmi import solve_observer_lmi
 from .observers import CoupledObserver, LuenbergerObserver
 from .refine import refine_gain
 from .problem import ObserverProblem
@@ -290,19 +290,28 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
                   margin=margin, solver=solver, solver_options=solver_options,
                   seed=seed)
     embed = lambda L: np.kron(np.eye(copies), L)
-    convex = None
-    if method == 'auto':
+    convex, extra = None, []
+    if method == 'auto' or refine:
+        # the n-state Luenberger design, solved once: the convex stage
+        # (embedded) and the start of the single observer's refinement
         base = hinf_observer(plant, refine=False, **common)
         rep = base.report
-        convex = (embed(base.L), dict(gamma_opt=rep.gamma_opt,
-                                      gamma_bound=rep.gamma_bound,
-                                      solver=rep.solver, status=rep.status,
-                                      stats={'luenberger': rep.stats}))
-    extra = []
-    if refine:
-        single = hinf_observer(plant, refine_options=refine_options,
-                               **common)
-        extra.append(('luenberger', embed(single.L)))
+        info = dict(gamma_opt=rep.gamma_opt, gamma_bound=rep.gamma_bound,
+                    solver=rep.solver, status=rep.status,
+                    stats={'luenberger': rep.stats})
+        if method == 'auto':
+            convex = (embed(base.L), info)
+        if refine:
+            L0 = base.L
+            if region is not None:      # as hinf_observer(refine=True)
+                single = ObserverProblem(A, C, prob.Bw, prob.Dw, prob.Cz,
+                                         dt=dt)
+                L0, _ = synthesise(single, region, refine=True,
+                                   margin=margin, solver=solver,
+                                   solver_options=solver_options, seed=seed,
+                                   refine_options=refine_options,
+                                   convex=(base.L, info))
+            extra.append(('luenberger', embed(L0)))
     G, report = synthesise(prob, region, refine=refine, margin=margin,
                            solver=solver, solver_options=solver_options,
                            seed=seed, extra_starts=extra,
@@ -355,7 +364,7 @@ def synthesise(prob, region, *, refine, margin, solver, solver_options,
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
     # of γ cost unbounded gains)
     lowest = min(rep.hinf for rep, _ in verified)
-    tol = max(1e-3 * lowest, 1e-4 * _noise_scale(prob))
+    tol = max(1e-3 * lowest, 1e-4 * prob.noise_scale)
     best, G = min(((rep, Gc) for rep, Gc in verified
                    if rep.hinf <= lowest + tol),
                   key=lambda item: np.linalg.norm(item[1], 2))

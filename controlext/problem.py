@@ -112,6 +112,13 @@ class ObserverProblem:
     def Cze(self):
         return np.kron(self.weights.reshape(1, -1), self.Cz)
 
+    @property
+    def noise_scale(self):
+        """Size of the noise-to-error channel ``‖Cze‖ (‖Bwe‖ + ‖Dwe‖)``."""
+        return float(np.linalg.norm(self.Cze, 2) *
+                     (np.linalg.norm(self.Bwe, 2) +
+                      np.linalg.norm(self.Dwe, 2)))
+
     def error_system(self, G):
         """Matrices ``(Acl, Bcl, Ccl, Dcl)`` of the error system for gain G."""
         G = np.asarray(G, dtype=float)

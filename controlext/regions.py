@@ -117,8 +117,7 @@ class Region:
             Complex points along each part's boundary (for plotting).
         """
         return [curve for part in self._parts
-                for curve in part[4](extent, num)] \
-            if all(len(part) > 4 for part in self._parts) else []
+                for curve in part[4](extent, num)]
 
 
 class HalfPlane(Region):
