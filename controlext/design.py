@@ -26,6 +26,7 @@ from ._checks import (as_plant, check_decay, check_detectable,
 from .exceptions import (ArgumentError, DimensionError, ParameterError,
                          RegionError, VerificationError)
 from .lmi import solve_observer_lmi
+from .modal import modal_applies, modal_problem
 from .observers import CoupledObserver, LuenbergerObserver
 from .refine import refine_gain
 from .problem import ObserverProblem
@@ -135,10 +136,19 @@ def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
         Noise model (see :class:`LuenbergerObserver`).
     region : Region, optional
         Pole region for the error dynamics.
-    method : {'auto', 'lmi', 'riccati'}, optional
-        ``'riccati'`` solves the filter Riccati equation (no region, all
-        measurements noisy); ``'lmi'`` the two-stage LMI; ``'auto'`` picks
-        the Riccati route when it applies.
+    method : {'auto', 'lmi', 'riccati', 'modal'}, optional
+        ``'riccati'`` solves the filter Riccati equation (continuous time,
+        all measurements noisy, no region or a decay half-plane — for
+        ``Re s <= -σ`` the plant shifted by ``σ``, a certified but more
+        conservative bound); ``'lmi'`` the two-stage LMI; ``'modal'`` that
+        LMI on the modes outside or near the region only
+        (:mod:`controlext.modal`; exact for the gains acting on them when
+        the noise does not reach the others).  ``'auto'`` takes the
+        Riccati route without a region; with one, the modal LMI where it
+        applies (within 0.1 % of the full LMI's γ on the benchmark plants,
+        10–40× faster), else the LMI up to ``LMI_MAX_STATES = 40``
+        states (it costs about ``n^3.7``) and the shifted Riccati design
+        above.  Refinement starts from any of them.
     refine : bool, optional
         With a region the LMI is conservative (one Lyapunov matrix for the
         bound and the region); refinement then minimises the true H∞ norm
@@ -177,27 +187,42 @@ def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
     prob = ObserverProblem(A, C, Bw, Dw, Cz, dt=dt)
     region = resolve_region(decay, region, dt)
     margin = _check_margin(margin)
-    if method not in ('auto', 'lmi', 'riccati'):
-        raise ArgumentError(f"method must be 'auto', 'lmi' or 'riccati'; "
-                            f"found {method!r}")
+    if method not in ('auto', 'lmi', 'riccati', 'modal'):
+        raise ArgumentError(f"method must be 'auto', 'lmi', 'riccati' or "
+                            f"'modal'; found {method!r}")
     check_detectable(A, C, dt)
     if region is not None:
         check_region_reachable(A, C, region, dt)
-    riccati_ok = region is None and not dt and np.linalg.matrix_rank(
-        prob.Dw @ prob.Dw.T) == prob.p
+    riccati_ok = _riccati_applies(prob, region)
     if method == 'riccati' and not riccati_ok:
         raise ArgumentError("method='riccati' needs a continuous plant, no "
-                            "pole region and noise on every measurement "
-                            "(Dw Dwᵀ nonsingular)")
-    if method == 'riccati' or (method == 'auto' and riccati_ok):
-        gopt = hinf_filter_level(A, C, prob.Bw, prob.Dw, prob.Cz)
-        gbound = margin * gopt if gopt > 0 else 1e-9
-        L = hinf_filter_gain(A, C, prob.Bw, prob.Dw, prob.Cz,
-                             gbound if margin > 1 else gopt * (1 + 1e-6))
-        report = verify_design(prob, L, region, gamma_bound=gbound,
-                               method='riccati', stage='riccati',
-                               gamma_opt=gopt, solver='riccati',
-                               status='optimal')
+                            "pole region other than a decay half-plane, and "
+                            "noise on every measurement (Dw Dwᵀ nonsingular)")
+    large = prob.n > LMI_MAX_STATES
+    split = modal_applies(prob, region, LMI_MAX_STATES) if \
+        method in ('modal', 'auto') else None
+    if method == 'modal' and split is None:
+        raise ArgumentError(
+            f"method='modal' needs a pole region with between 1 and "
+            f"{min(LMI_MAX_STATES, prob.n - 1)} modes of A outside or near "
+            "it, and noise that does not reach the other modes (Bw = 0 or "
+            "in the span of the slow Schur vectors)")
+    if split is not None:
+        L, info = _modal_design(prob, region, margin, solver,
+                                solver_options, split)
+        L, report = synthesise(prob, region, refine=refine, margin=margin,
+                               solver=solver, solver_options=solver_options,
+                               seed=seed, refine_options=refine_options,
+                               convex=(L, info))
+    elif method == 'riccati' or (method == 'auto' and riccati_ok and (
+            region is None or large)):
+        L, report = _riccati_design(prob, region, margin)
+        if refine and region is not None:
+            L, report = synthesise(prob, region, refine=True, margin=margin,
+                                   solver=solver,
+                                   solver_options=solver_options, seed=seed,
+                                   refine_options=refine_options,
+                                   convex=(L, convex_info(report)))
     else:
         L, report = synthesise(prob, region, refine=refine and region
                                is not None, margin=margin, solver=solver,
@@ -243,9 +268,10 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
         Noise model (see :class:`LuenbergerObserver`).
     region : Region, optional
         Pole region.
-    method : {'auto', 'lmi'}, optional
-        Convex stage: the embedded n-state LMI (``'auto'``) or the coupled
-        LMI of Theorem 3.10 (``'lmi'``).
+    method : {'auto', 'lmi', 'riccati', 'modal'}, optional
+        Convex stage: the embedded n-state design of :func:`hinf_observer`
+        with the same ``method`` (``'auto'``, ``'riccati'``, ``'modal'``),
+        or the coupled LMI of Theorem 3.10 (``'lmi'``).
     refine : bool, optional
         Run the refinement stage (default).  Without it the result is the
         convex (conservative) design.
@@ -283,23 +309,25 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
     check_detectable(A, C, dt)
     if region is not None:
         check_region_reachable(A, C, region, dt)
-    if method not in ('auto', 'lmi'):
-        raise ArgumentError(f"method must be 'auto' or 'lmi'; found "
-                            f"{method!r}")
+    if method not in ('auto', 'lmi', 'riccati', 'modal'):
+        raise ArgumentError(f"method must be 'auto', 'lmi', 'riccati' or "
+                            f"'modal'; found {method!r}")
+    if method == 'riccati' and not _riccati_applies(prob, region):
+        raise ArgumentError("method='riccati' needs a continuous plant, no "
+                            "pole region other than a decay half-plane, and "
+                            "noise on every measurement (Dw Dwᵀ nonsingular)")
     common = dict(Bw=prob.Bw, Dw=prob.Dw, Cz=prob.Cz, region=region,
                   margin=margin, solver=solver, solver_options=solver_options,
                   seed=seed)
     embed = lambda L: np.kron(np.eye(copies), L)
     convex, extra = None, []
-    if method == 'auto' or refine:
+    if method != 'lmi' or refine:
         # the n-state Luenberger design, solved once: the convex stage
         # (embedded) and the start of the single observer's refinement
-        base = hinf_observer(plant, refine=False, **common)
-        rep = base.report
-        info = dict(gamma_opt=rep.gamma_opt, gamma_bound=rep.gamma_bound,
-                    solver=rep.solver, status=rep.status,
-                    stats={'luenberger': rep.stats})
-        if method == 'auto':
+        base = hinf_observer(plant, refine=False, method=(
+            'auto' if method == 'lmi' else method), **common)
+        info = convex_info(base.report, 'luenberger')
+        if method != 'lmi':
             convex = (embed(base.L), info)
         if refine:
             L0 = base.L
@@ -345,20 +373,27 @@ def synthesise(prob, region, *, refine, margin, solver, solver_options,
         G, info = convex
         info = dict(info)
         bound, stats = info.pop('gamma_bound'), info.pop('stats')
-    best = verify_design(prob, G, region, gamma_bound=bound, method='lmi',
-                         stage='lmi', stats=stats, **info)
+    kind = info.pop('method', 'lmi')
+    best = verify_design(prob, G, region, gamma_bound=bound, method=kind,
+                         stage=info.pop('stage', 'lmi'), stats=stats, **info)
     if not refine:
         return G, best
     options = dict(refine_options or {})
     options.setdefault('executor', executor)
-    res = refine_gain(prob, region, [('lmi', G)] + list(extra_starts),
-                      seed=seed, **options)
-    stats['refine'] = dict(start=res.start, starts=res.starts,
-                           evaluations=res.evaluations, time=res.time)
-    candidates = [(res.G, 'refined')] + [(Gs, label)
-                                         for label, Gs in extra_starts]
+    try:
+        res = refine_gain(prob, region, [(best.stage, G)] + list(extra_starts),
+                          seed=seed, **options)
+    except VerificationError as exc:
+        # the convex design is verified already: keep it, say why
+        stats['refine'] = dict(failed=str(exc))
+        candidates = []
+    else:
+        stats['refine'] = dict(start=res.start, starts=res.starts,
+                               evaluations=res.evaluations, time=res.time)
+        candidates = [(res.G, 'refined')]
+    candidates += [(Gs, label) for label, Gs in extra_starts]
     verified = [(best, G)] + [
-        (verify_design(prob, Gc, region, method='lmi+refine', stage=stage,
+        (verify_design(prob, Gc, region, method=f'{kind}+refine', stage=stage,
                        stats=stats, **info), Gc) for Gc, stage in candidates]
     # the smallest true norm wins; designs equal to within a tolerance are
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
@@ -368,8 +403,18 @@ def synthesise(prob, region, *, refine, margin, solver, solver_options,
     best, G = min(((rep, Gc) for rep, Gc in verified
                    if rep.hinf <= lowest + tol),
                   key=lambda item: np.linalg.norm(item[1], 2))
-    best.method = 'lmi+refine'
+    best.method = f'{kind}+refine'
     return G, best
+
+
+def convex_info(report, key=None):
+    """The ``convex=`` argument of :func:`synthesise` for a verified
+    convex design's report (its stats nested under ``key`` if given)."""
+    stats = dict(report.stats or {})
+    return dict(gamma_opt=report.gamma_opt, gamma_bound=report.gamma_bound,
+                solver=report.solver, status=report.status,
+                method=report.method, stage=report.stage,
+                stats={key: stats} if key else stats)
 
 
 def resolve_region(decay, region, dt):
@@ -404,3 +449,52 @@ def _check_margin(margin):
         raise ParameterError(f"margin must be a finite number >= 1; found "
                              f"{margin}")
     return margin
+
+
+#: the largest LMI ``method='auto'`` solves (full, or on the slow modes);
+#: above it the shifted Riccati design: the n-state LMI costs about
+#: ``n^3.7`` (14–22 s at n = 40, 155 s at n = 60 on a 2-core machine)
+LMI_MAX_STATES = 40
+
+
+def _modal_design(prob, region, margin, solver, solver_options, split):
+    """The LMI on the slow modes (:mod:`controlext.modal`), as the
+    ``convex=`` argument of :func:`synthesise`."""
+    U, k = split
+    sol = solve_observer_lmi(modal_problem(prob, U, k), region, margin,
+                             solver, solver_options)
+    info = dict(gamma_opt=sol.gamma_opt, gamma_bound=sol.gamma_bound,
+                solver=sol.stats['solver'], status=sol.status,
+                method='modal lmi', stage='lmi',
+                stats={'lmi': sol.stats, 'modal': {'slow_states': k}})
+    return U[:, :k] @ sol.G, info
+
+
+def _riccati_applies(prob, region):
+    """Can the filter Riccati equation give a certified design?"""
+    return (not prob.dt and (region is None or type(region) is HalfPlane)
+            and np.linalg.matrix_rank(prob.Dw @ prob.Dw.T) == prob.p)
+
+
+def _riccati_design(prob, region, margin):
+    """Central H∞ filter, shifted by the decay of a half-plane region.
+
+    With ``As = A + σ I`` the error system of ``L`` is that of the shifted
+    plant evaluated at ``s + σ``: its poles are those of the shifted error
+    system moved by ``−σ``, and by the maximum modulus principle its H∞
+    norm is at most the shifted one.  The level is therefore a certified
+    bound — more conservative than the LMI's (1.2–2× measured), found in
+    milliseconds.
+    """
+    sigma = 0.0 if region is None else region.decay
+    As = prob.A + sigma * np.eye(prob.n)
+    args = (prob.C, prob.Bw, prob.Dw, prob.Cz)
+    gopt = hinf_filter_level(As, *args)
+    gbound = margin * gopt if gopt > 0 else 1e-9
+    L = hinf_filter_gain(As, *args, gbound if margin > 1 else
+                         gopt * (1 + 1e-6))
+    method = 'riccati' if region is None else 'shifted riccati'
+    report = verify_design(prob, L, region, gamma_bound=gbound, method=method,
+                           stage='riccati', gamma_opt=gopt, solver='riccati',
+                           status='optimal')
+    return L, report

@@ -127,8 +127,14 @@ def test_other_arguments(second_order_plant):
         cx.hinf_observer(second_order_plant, decay=1,
                          region=cx.HalfPlane(1))
     with pytest.raises(cx.ArgumentError, match="needs a continuous plant, "
-                                               "no pole region"):
-        cx.hinf_observer(second_order_plant, decay=1, method='riccati')
+                                               "no pole region other"):
+        cx.hinf_observer(second_order_plant, region=cx.Disk(3.0, -4.0),
+                         method='riccati')
+    with pytest.raises(cx.ArgumentError, match="needs a continuous plant"):
+        cx.coupled_observer(second_order_plant, decay=1, Dw=[[0.0]],
+                            Bw=[[1.0], [0.0]], method='riccati')
+    with pytest.raises(cx.ArgumentError, match="'auto', 'lmi', 'riccati' or 'modal'"):
+        cx.coupled_observer(second_order_plant, decay=1, method='scs')
 
 
 def test_inputs_not_mutated(second_order_plant):

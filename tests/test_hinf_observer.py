@@ -127,3 +127,46 @@ def test_decay_on_unstable_plant():
     assert np.isfinite(obs.hinf)
     assert obs.report.status == 'optimal'
     assert obs.report.stats['lmi']['stage1']['status'] == 'optimal'
+
+
+# -- the shifted Riccati route for a decay constraint ------------------------
+
+@pytest.mark.parametrize('seed', [0, 1, 2])
+def test_shifted_riccati_design_is_certified(seed):
+    """``method='riccati'`` with ``decay=σ``: the level is the Riccati
+    optimum of the plant shifted by σ (scipy bisection, independent), the
+    true norm (slycot) stays below it, the poles are left of −σ, and the
+    LMI's level is never above it (the shifted BRL implies the LMI)."""
+    plant, Bw = unstable_plant(seed=seed)
+    A, C = np.asarray(plant.A), np.asarray(plant.C)
+    n, p = A.shape[0], C.shape[0]
+    Bws, Dws = separate(Bw, p)
+    sigma = 1.0
+    obs = cx.hinf_observer(plant, decay=sigma, Bw=Bws, Dw=Dws,
+                           method='riccati', refine=False)
+    level = riccati_level(A + sigma * np.eye(n), C, Bws, Dws, np.eye(n))
+    assert obs.report.gamma_opt == pytest.approx(level, rel=1e-4)
+    assert obs.report.method == 'shifted riccati'
+    assert max(ct.poles(obs).real) <= -sigma + 1e-9
+    assert cx.hinfnorm(obs)[0] <= obs.report.gamma_bound * (1 + 1e-6)
+    lmi = cx.hinf_observer(plant, decay=sigma, Bw=Bws, Dw=Dws,
+                           method='lmi', refine=False)
+    assert lmi.report.gamma_opt <= level * (1 + 1e-4)
+
+
+def test_auto_takes_the_riccati_route_above_the_size_limit(monkeypatch):
+    import controlext.design as design
+    plant, Bw = unstable_plant(seed=0)
+    small = cx.hinf_observer(plant, decay=1.0, refine=False)
+    assert small.report.method == 'lmi'
+    monkeypatch.setattr(design, 'LMI_MAX_STATES', 2)
+    big = cx.hinf_observer(plant, decay=1.0, refine=False)
+    assert big.report.method == 'shifted riccati'
+    assert 'lmi' not in big.report.stats
+    refined = cx.hinf_observer(plant, decay=1.0)
+    assert refined.report.method == 'shifted riccati+refine'
+    assert refined.hinf <= big.hinf * (1 + 1e-9)
+    assert max(ct.poles(refined).real) <= -1.0 + 1e-6
+    coupled = cx.coupled_observer(plant, decay=1.0, refine=False)
+    assert coupled.report.method == 'shifted riccati'
+    np.testing.assert_allclose(coupled.K1, big.L)
