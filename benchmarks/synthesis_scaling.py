@@ -3,13 +3,25 @@
 Baseline (measured in the same run): Theorem 3.10 as written — one
 common Lyapunov matrix of size 2n, cvxpy + clarabel, one stage, gain
 X⁻¹Y.  Against it: controlext's convex stage (``refine=False``) and its
-default refined design.  Seeded random plants with unstable modes,
-p = 2 outputs, decay σ = 1.
+default refined design.  Seeded random plants with two unstable modes,
+p = 2 outputs, decay σ = 1; γ is the true H∞ norm of each design
+(slycot), the baseline's LMI level is shown beside its gain's norm.
 
-    python benchmarks/synthesis_scaling.py [n ...]     (default 5 10 20 30)
+Plant families (``--family``):
+
+* ``mixed`` (default): besides the unstable modes about n/5 slow stable
+  modes (Re in [-0.8, -0.1], slower than σ), the rest in [-4, -1.2] — the
+  decay constraint is active on several modes;
+* ``fast``: every stable mode already faster than σ (only the two unstable
+  modes must move).
+
+    python benchmarks/synthesis_scaling.py [--family F] [--baseline-max N] [n ...]
+
+(default sizes 5 10 20 30 40 60; the baseline is skipped above
+``--baseline-max``, default 40: at n = 60 it would run for tens of minutes.)
 """
 
-import sys
+import argparse
 import time
 import warnings
 
@@ -22,27 +34,35 @@ import controlext as cx
 SIGMA = 1.0
 
 
-def plant(n, seed=0, p=2):
-    """Two unstable modes (0.5, 0.2), the others with real parts in
-    [-4, -1.2]; a quarter of the modes in complex pairs; a random
-    orthogonal similarity."""
-    rng = np.random.default_rng(seed)
+def _jordan(re, rng):
+    """Real block-diagonal matrix with the given real parts; complex pairs
+    at every fourth position after the unstable modes."""
+    n = re.size
     J = np.zeros((n, n))
-    re = np.sort(rng.uniform(-4.0, -1.2, n))[::-1]
-    re[:2] = [0.5, 0.2]
     k = 0
     while k < n:
-        if k + 1 < n and k % 4 == 0:
+        if k + 1 < n and k % 4 == 2:
             w = rng.uniform(0.5, 3.0)
             J[k:k + 2, k:k + 2] = [[re[k], w], [-w, re[k]]]
             k += 2
         else:
             J[k, k] = re[k]
             k += 1
+    return J
+
+
+def plant(n, seed=0, p=2, family='mixed'):
+    """Seeded random plant: unstable modes 0.5 and 0.2, then slow and fast
+    stable ones (see the module docstring), a random orthogonal
+    similarity, random B and C."""
+    rng = np.random.default_rng(seed)
+    slow = max(2, n // 5) if family == 'mixed' else 0
+    re = np.concatenate([[0.5, 0.2], rng.uniform(-0.8, -0.1, slow),
+                         rng.uniform(-4.0, -1.2, n - 2 - slow)])
+    J = _jordan(re, rng)
     Q, _ = np.linalg.qr(rng.normal(size=(n, n)))
-    A = Q @ J @ Q.T
-    return ct.ss(A, rng.normal(size=(n, 1)), rng.normal(size=(p, n)),
-                 np.zeros((p, 1)))
+    return ct.ss(Q @ J @ Q.T, rng.normal(size=(n, 1)),
+                 rng.normal(size=(p, n)), np.zeros((p, 1)))
 
 
 def straightforward_lmi(P):
@@ -65,13 +85,13 @@ def straightforward_lmi(P):
     try:
         prob.solve(solver=cp.CLARABEL)
     except cp.error.SolverError:
-        return np.inf, False, 'solver_error'
+        return np.inf, np.inf, False, 'solver_error'
     if X.value is None:
-        return np.inf, False, prob.status
+        return np.inf, np.inf, False, prob.status
     G = np.linalg.solve(X.value, Y.value)
     obs = cx.CoupledObserver(P, G)
     holds = np.max(ct.poles(obs).real) <= -SIGMA + 1e-6
-    return obs.hinf, holds, prob.status
+    return float(g.value), obs.hinf, holds, prob.status
 
 
 def timed(fn):
@@ -80,23 +100,43 @@ def timed(fn):
     return time.perf_counter() - t0, out
 
 
-def main(sizes):
-    print(f"{'n':>3} | {'base s':>7} {'base γ':>9} {'ok':>3} {'status':>18} |"
-          f" {'convex s':>8} {'ratio':>6} {'γ':>9} {'γ/base':>7} |"
-          f" {'refined s':>9} {'γ':>9} {'γ/base':>7} {'ok':>3}")
+def decay_holds(obs):
+    return bool(np.max(ct.poles(obs).real) <= -SIGMA + 1e-6)
+
+
+def main(sizes, family, baseline_max):
+    print(f"family {family!r}, decay σ = {SIGMA:g}; γ = true H∞ norm; "
+          "ratios against the baseline of the same row")
+    print(f"{'n':>3} | {'base s':>7} {'LMI γ':>8} {'γ':>8} {'ok':>2} "
+          f"{'status':>18} | {'convex s':>8} {'speed':>6} {'γ':>8} "
+          f"{'γ/base':>6} {'ok':>2} | {'refined s':>9} {'speed':>6} "
+          f"{'γ':>8} {'γ/base':>6} {'ok':>2}")
     for n in sizes:
-        P = plant(n)
-        tb, (gb, okb, status) = timed(lambda: straightforward_lmi(P))
+        P = plant(n, family=family)
+        if n <= baseline_max:
+            tb, (lb, gb, okb, status) = timed(lambda: straightforward_lmi(P))
+            base = (f"{tb:>7.2f} {lb:>8.4g} {gb:>8.4g} "
+                    f"{'y' if okb else 'n':>2} {status:>18}")
+        else:
+            tb = gb = np.nan
+            base = f"{'—':>7} {'—':>8} {'—':>8} {'':>2} {'skipped':>18}"
         tc, conv = timed(lambda: cx.coupled_observer(P, decay=SIGMA,
                                                      refine=False))
         tr, ref = timed(lambda: cx.coupled_observer(P, decay=SIGMA))
-        okr = np.max(ct.poles(ref).real) <= -SIGMA + 1e-6
-        print(f"{n:>3} | {tb:>7.2f} {gb:>9.4g} {'y' if okb else 'n':>3} "
-              f"{status:>18} | {tc:>8.2f} {tb / tc:>6.1f} {conv.hinf:>9.4g} "
-              f"{conv.hinf / gb:>7.3f} | {tr:>9.2f} {ref.hinf:>9.4g} "
-              f"{ref.hinf / gb:>7.3f} {'y' if okr else 'n':>3}", flush=True)
+        print(f"{n:>3} | {base} | {tc:>8.2f} {tb / tc:>6.1f} "
+              f"{conv.hinf:>8.4g} {conv.hinf / gb:>6.3f} "
+              f"{'y' if decay_holds(conv) else 'n':>2} | {tr:>9.2f} "
+              f"{tb / tr:>6.2f} {ref.hinf:>8.4g} {ref.hinf / gb:>6.3f} "
+              f"{'y' if decay_holds(ref) else 'n':>2}", flush=True)
 
 
 if __name__ == '__main__':
     warnings.simplefilter('ignore', UserWarning)
-    main([int(a) for a in sys.argv[1:]] or [5, 10, 20, 30])
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('sizes', nargs='*', type=int,
+                        default=[5, 10, 20, 30, 40, 60])
+    parser.add_argument('--family', choices=['mixed', 'fast'],
+                        default='mixed')
+    parser.add_argument('--baseline-max', type=int, default=40)
+    args = parser.parse_args()
+    main(args.sizes, args.family, args.baseline_max)
