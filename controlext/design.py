@@ -338,7 +338,7 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
                                    margin=margin, solver=solver,
                                    solver_options=solver_options, seed=seed,
                                    refine_options=refine_options,
-                                   convex=(base.L, info))
+                                   convex=(base.L, info), executor=executor)
             extra.append(('luenberger', embed(L0)))
     G, report = synthesise(prob, region, refine=refine, margin=margin,
                            solver=solver, solver_options=solver_options,

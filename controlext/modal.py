@@ -63,7 +63,19 @@ def modal_split(A, region, guard=GUARD):
 def modal_applies(prob, region, max_states):
     """``(U, k)`` when the modal stage applies to ``prob``: a region, fewer
     than ``n`` but at least one slow mode, at most ``max_states`` of them,
-    and noise that does not reach the fast Schur coordinates; else None."""
+    and noise that does not reach the fast Schur coordinates; else None.
+
+    Examples
+    --------
+    >>> import controlext as cx
+    >>> from controlext.problem import ObserverProblem
+    >>> from controlext.modal import modal_applies
+    >>> prob = ObserverProblem(A=[[0.5, 0.0], [0.0, -5.0]], C=[[1.0, 1.0]])
+    >>> modal_applies(prob, cx.HalfPlane(1.0), 40)[1]
+    1
+    >>> modal_applies(prob, None, 40) is None
+    True
+    """
     if region is None or prob.copies != 1:
         return None
     U, k = modal_split(prob.A, region)
@@ -77,7 +89,19 @@ def modal_applies(prob, region, max_states):
 
 def modal_problem(prob, U, k):
     """The k-state problem ``(T11, C U₁, U₁ᵀ Bw, Dw, Cz U₁)``; a gain
-    ``L₁`` of it is ``U₁ L₁`` for ``prob``."""
+    ``L₁`` of it is ``U₁ L₁`` for ``prob``.
+
+    Examples
+    --------
+    >>> import controlext as cx
+    >>> from controlext.problem import ObserverProblem
+    >>> from controlext.modal import modal_applies, modal_problem
+    >>> prob = ObserverProblem(A=[[0.5, 0.0], [0.0, -5.0]], C=[[1.0, 1.0]])
+    >>> U, k = modal_applies(prob, cx.HalfPlane(1.0), 40)
+    >>> sub = modal_problem(prob, U, k)
+    >>> sub.A.round(6).tolist(), abs(sub.C).round(6).tolist()
+    ([[0.5]], [[1.0]])
+    """
     U1 = U[:, :k]
     return ObserverProblem(U1.T @ prob.A @ U1, prob.C @ U1, U1.T @ prob.Bw,
                            prob.Dw, prob.Cz @ U1, dt=prob.dt)
