@@ -115,14 +115,18 @@ class _Objective:
                                      poles=poles)
         if not np.isfinite(gamma):
             return np.inf, np.zeros_like(G)
-        # σmax of T(z) = Ccl (z I − Acl)⁻¹ Bcl at the peak, and its
-        # derivative: two solves with z I − Acl, no inverse
+        # σmax of T(z) = Ccl (z I − Acl)⁻¹ Bcl at the peak and its
+        # singular vectors u, v; dσ/dG = Re(a b*) with a = R* Cclᵀ u
         z = (np.exp(1j * w * self.dt) if self.dt else 1j * w)
-        M = z * self.eye - Acl
-        RB = np.linalg.solve(M, Bcl)
-        U, sv, Vh = np.linalg.svd(Ccl @ RB)
-        u, v = U[:, 0], Vh[0].conj()
-        a = np.linalg.solve(M.conj().T, Ccl.T @ u)
+        R = np.linalg.inv(z * self.eye - Acl)
+        RB = R @ Bcl
+        T = Ccl @ RB
+        if T.shape[1] == 1:                 # one noise input: no SVD
+            u, v = T[:, 0] / np.linalg.norm(T), np.ones(1)
+        else:
+            U, sv, Vh = np.linalg.svd(T)
+            u, v = U[:, 0], Vh[0].conj()
+        a = R.conj().T @ (Ccl.T @ u)
         b = self.prob.Dwe @ v - self.Ce @ (RB @ v)
         return gamma, np.real(np.outer(a.conj(), b))
 
