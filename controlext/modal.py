@@ -49,12 +49,15 @@ GUARD = 0.05
 
 def modal_split(A, region, guard=GUARD):
     """Ordered real Schur basis ``U`` and the number ``k`` of slow modes
-    (outside ``region`` or within ``guard · (1 + |λ|)`` of its boundary)."""
+    (outside ``region`` or within ``guard · max(1, |Re λ|)`` of its
+    boundary; the real part, so that lightly damped high-frequency modes
+    of a flexible structure count as fast)."""
     A = np.asarray(A, dtype=float)
 
     def slow(re, im):
         lam = np.atleast_1d(re + 1j * im)
-        return bool(region.worst_margin(lam) > -guard * (1 + abs(lam[0])))
+        return bool(region.worst_margin(lam) >
+                    -guard * max(1.0, abs(lam[0].real)))
 
     T, U, k = la.schur(A, output='real', sort=slow)
     return U, int(k)

@@ -15,7 +15,7 @@ def test_there_are_examples():
     assert len(EXAMPLES) >= 4
 
 
-HEAVY = {'second_order_tradeoff', 'boeing747_lateral'}
+HEAVY = {'second_order_tradeoff', 'boeing747_lateral', 'flexible_beam'}
 
 
 @pytest.mark.parametrize('script', [
