@@ -320,8 +320,9 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
         Luenberger-equivalent design).
     random_starts : int, optional
         Extra starts: seeded random perturbations of the given ones.
-        Default: 32 for up to 16 gain entries, ``32 (16/entries)^1.5``
-        (at least 4) for larger gains; ``polish`` shrinks likewise.
+        Default: 32 for up to 16 gain entries (but at most 8 per entry),
+        ``32 (16/entries)^1.5`` (at least 4) for larger gains; ``polish``
+        shrinks likewise (and is at most ``2 + entries``).
     seed : int, optional
         Seed of those perturbations (results are reproducible).
     screen_iterations, polish, maxiter, restarts : int, optional
@@ -359,8 +360,10 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
     nvar = shape[0] * shape[1]
     shrink = min(1.0, 16.0 / nvar)      # 1 for the small problems
     if random_starts is None:
-        random_starts = max(4, int(round(32 * shrink**1.5)))
-    polish = min(polish, max(2, int(round(polish * shrink))))
+        # and a gain of one or two entries needs fewer than 32 starts
+        random_starts = min(max(4, int(round(32 * shrink**1.5))),
+                            8 * nvar)
+    polish = min(polish, max(2, int(round(polish * shrink))), 2 + nvar)
     # an evaluation costs ~n³ and large gains need more BFGS steps: their
     # polishing runs are shorter, so that a 60-state pair fits in a minute
     large = shrink < 0.25                 # more than 64 gain entries
