@@ -61,8 +61,9 @@ def test_inner_loop_runs_blas_on_one_thread():
 
 
 def test_large_gains_get_shorter_polishing(monkeypatch):
-    """Above 64 gain entries the polishing budget shrinks (maxiter ∝
-    entries^-1/2, one restart); the given options are used as they are."""
+    """Above 64 gain entries on more than 64 error states the polishing
+    budget shrinks (maxiter ∝ entries^-1/2, one restart); given options
+    are used as they are; small error systems keep 600 iterations."""
     seen = []
     real = refine._polish
 
@@ -72,13 +73,19 @@ def test_large_gains_get_shorter_polishing(monkeypatch):
 
     monkeypatch.setattr(refine, '_polish', spy)
     rng = np.random.default_rng(0)
-    n = 10
-    A = rng.normal(size=(n, n)) / np.sqrt(n) - 2 * np.eye(n)
-    C = rng.normal(size=(4, n))
-    prob = ObserverProblem(A, C, copies=2)           # 20 x 8 = 160 entries
-    G = np.zeros(prob.gain_shape)
-    refine.refine_gain(prob, None, [('zero', G)], random_starts=0)
-    assert seen[-1] == (max(100, round(600 * (16 / 160) ** 0.5)), 1)
-    refine.refine_gain(prob, None, [('zero', G)], random_starts=0,
+
+    def problem(n):
+        A = rng.normal(size=(n, n)) / np.sqrt(n) - 2 * np.eye(n)
+        return ObserverProblem(A, rng.normal(size=(2, n)), copies=2)
+
+    big = problem(33)                       # 66 states, 66 x 4 entries
+    G = np.zeros(big.gain_shape)
+    refine.refine_gain(big, None, [('zero', G)], random_starts=0)
+    assert seen[-1] == (max(100, round(600 * (16 / 264) ** 0.5)), 1)
+    refine.refine_gain(big, None, [('zero', G)], random_starts=0,
                        maxiter=7, restarts=2)
     assert seen[-1] == (7, 2)
+    small = problem(20)                     # 40 states, 160 entries
+    refine.refine_gain(small, None, [('zero', np.zeros(small.gain_shape))],
+                       random_starts=0)
+    assert seen[-1] == (600, 1)
