@@ -21,7 +21,7 @@ import numpy as np
 import control as ct
 
 from .analysis import crossing_time, tradeoff_curve
-from .design import coupled_observer, hinf_observer, luenberger_observer
+from .design import coupled_observer, luenberger_observer
 from .gi import gi_observer
 from .maps import design_map
 from .observers import CoupledObserver, LuenbergerObserver

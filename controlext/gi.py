@@ -277,7 +277,7 @@ def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
     >>> bool(np.allclose(ct.dcgain(obs), 0, atol=1e-8))
     True
     """
-    from .design import _check_margin, resolve_region, synthesise
+    from .synthesis import _check_margin, resolve_region, synthesise
     start = time.perf_counter()
     A, B, C, D, dt, Bw = _check_gi_plant(plant, Bw)
     if isinstance(copies, bool) or not isinstance(copies, (int, np.integer)) \

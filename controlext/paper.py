@@ -60,7 +60,6 @@ def _close(value, published, digits):
 def luenberger_rows():
     """Rows for the Luenberger observers of Section IV."""
     from .observers import LuenbergerObserver
-    from .design import hinf_observer
     rows = []
     obs = LuenbergerObserver(scalar_plant(), [[2.0]])
     pole = ct.poles(obs)[0].real

@@ -97,8 +97,7 @@ def simulate(plant, observers, T, u=0.0, w=0.0, x0=0.0, xhat0=None,
             raise ArgumentError("an observer does not match the plant's "
                                 "inputs and outputs")
     # block system: states [x; xi_1; ...], inputs [u; w]
-    Ablocks, Bu, Bw_rows, x0s = [A], [B], [Bw], []
-    Cx, Cxh = [], []
+    Ablocks, Bu, Bw_rows = [A], [B], [Bw]
     for est in ests:
         Bu_e, By_e = est.B[:, :m], est.B[:, m:]
         Ablocks.append(est.A)

@@ -6,7 +6,7 @@ import pytest
 import control as ct
 
 import controlext as cx
-import controlext.design as design
+import controlext.synthesis as synthesis
 
 
 @pytest.fixture(autouse=True)
@@ -18,8 +18,8 @@ def no_solver(monkeypatch, request):
     def forbidden(*args, **kwargs):
         raise AssertionError('the solver ran before the input was checked')
 
-    monkeypatch.setattr(design, 'solve_observer_lmi', forbidden)
-    monkeypatch.setattr(design, 'hinf_filter_level', forbidden)
+    monkeypatch.setattr(synthesis, 'solve_observer_lmi', forbidden)
+    monkeypatch.setattr(synthesis, 'hinf_filter_level', forbidden)
 
 
 def undetectable():

@@ -4,10 +4,9 @@ inside it, and the inner loop runs BLAS on one thread."""
 
 import numpy as np
 import pytest
-import control as ct
 
 import controlext as cx
-import controlext.design as design
+import controlext.synthesis as synthesis
 import controlext.refine as refine
 from controlext.exceptions import VerificationError
 from controlext.problem import ObserverProblem
@@ -20,7 +19,7 @@ def test_failed_refinement_keeps_the_convex_design(monkeypatch,
     def fail(*args, **kwargs):
         raise VerificationError("no gain with the error poles in the region")
 
-    monkeypatch.setattr(design, 'refine_gain', fail)
+    monkeypatch.setattr(synthesis, 'refine_gain', fail)
     obs = cx.hinf_observer(second_order_plant, decay=1.0)
     assert obs.report.stage == 'lmi'
     assert 'no gain' in obs.report.stats['refine']['failed']
@@ -56,7 +55,6 @@ def test_inner_loop_runs_blas_on_one_thread():
         return [d['num_threads'] for d in threadpoolctl.threadpool_info()
                 if d['user_api'] == 'blas']
 
-    import numpy  # noqa: F401  (BLAS loaded)
     assert inside() and set(inside()) == {1}
 
 

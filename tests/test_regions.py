@@ -5,7 +5,7 @@ import pytest
 import control as ct
 
 import controlext as cx
-import controlext.design as design
+import controlext.synthesis as synthesis
 
 FAST = {'random_starts': 4}          # fewer refinement starts: speed only
 
@@ -140,7 +140,7 @@ def test_region_domain_mismatch():
 
 def test_unobservable_mode_outside_disk_is_decided_before_solving(
         monkeypatch):
-    monkeypatch.setattr(design, 'solve_observer_lmi',
+    monkeypatch.setattr(synthesis, 'solve_observer_lmi',
                         lambda *a, **k: pytest.fail('solver ran'))
     plant = ct.ss([[-2.0, 0.0], [0.0, -0.5]], [[1.0], [1.0]], [[1.0, 0.0]],
                   0)
