@@ -72,9 +72,12 @@ class Region:
 
     def margins(self, eigs):
         """Array ``(len(eigs), parts)`` of ``g(λ)``; ``<= 0`` inside."""
-        eigs = np.atleast_1d(np.asarray(eigs, dtype=complex))
-        return np.array([[part[2](lam) for part in self._parts]
-                         for lam in eigs]).reshape(len(eigs), -1)
+        eigs = np.atleast_1d(np.asarray(eigs, dtype=complex)).ravel()
+        # the parts' margins are elementwise numpy expressions
+        out = np.empty((eigs.size, len(self._parts)))
+        for k, part in enumerate(self._parts):
+            out[:, k] = part[2](eigs)
+        return out
 
     def margin_gradients(self, eigs):
         """Array ``(len(eigs), parts, 2)`` of ``(dg/dRe λ, dg/dIm λ)``."""
