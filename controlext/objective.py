@@ -66,11 +66,13 @@ class Objective:
     Calling the objective with a flat gain ``x`` returns ``(f, ∇f)``
     (``(f, None)`` with ``grad=False``); outside the stability region
     ``f = inf``.  With ``above=a`` (and ``grad=False``) it may instead
-    return a lower bound of ``f`` that exceeds ``a``: the penalty plus the
-    frequency response at the last few distinct peak frequencies met, a
-    batch of linear solves instead of ``ab13dd`` — all that a line search rejecting a
-    trial step needs to know.  ``count`` counts the points evaluated; ``best`` is the
-    smallest norm met strictly inside the region and its gain.
+    return a lower bound of ``f`` that exceeds ``a`` — the penalty plus
+    the frequency response at the last few distinct peak frequencies met,
+    a batch of linear solves instead of ``ab13dd`` — which is all that a
+    line search rejecting a trial step needs to know; a point inside the
+    region is rejected so only if the bound also shows it is no new
+    ``best``.  ``count`` counts the points evaluated; ``best`` is the
+    smallest norm met inside the region and its gain.
     """
 
     def __init__(self, problem, region, rho=0.0, delta=0.0, tikhonov=0.0):
@@ -200,9 +202,11 @@ class Objective:
                 # the norm) often say so without ab13dd
                 bound = self.tikhonov * float(np.sum(G * G)) + \
                     self.rho * max(0.0, m + self.delta)
-                if bound <= above:
-                    bound += self._peak_bound(Acl, Bcl)
-                if bound > above:
+                peak = np.inf
+                if bound <= above or m <= 0:
+                    peak = self._peak_bound(Acl, Bcl)
+                    bound += peak
+                if bound > above and (m > 0 or peak >= self.best[0]):
                     return bound, None
             gamma, w = self._hinf(Acl, Bcl, lam)
             self._last = (x.copy(), G, Acl, Bcl, lam, V, m, crit, gamma, w)
