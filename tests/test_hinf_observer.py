@@ -170,3 +170,19 @@ def test_auto_takes_the_riccati_route_above_the_size_limit(monkeypatch):
     coupled = cx.coupled_observer(plant, decay=1.0, refine=False)
     assert coupled.report.method == 'shifted riccati'
     np.testing.assert_allclose(coupled.K1, big.L)
+
+
+def test_convex_stage_keeps_an_attained_optimum(scalar_plant):
+    """Where γ* is attained by a moderate gain the conditioned stage-2
+    gain (certified to 1.02 γ*) gives way to the stage-1 gain: the paper's
+    scalar plant at σ = 2.5 has the LMI optimum k0 = σ + a = 2, γ0 = 0.8
+    (Section IV-A); on an unstable plant (γ* not attained) the stage-1 gain
+    is orders of magnitude larger and the conditioned one stays."""
+    obs = cx.hinf_observer(scalar_plant, decay=2.5, refine=False)
+    assert obs.hinf == pytest.approx(0.8, rel=1e-6)
+    assert obs.L[0, 0] == pytest.approx(2.0, rel=1e-6)
+    assert obs.report.stats['lmi']['stage2']['kept'] == 'stage 1'
+    plant, Bw = unstable_plant(seed=0)
+    sol = solve_observer_lmi(ObserverProblem(plant.A, plant.C, Bw))
+    assert 'kept' not in sol.stats['stage2']
+    assert sol.gamma_bound == pytest.approx(1.02 * sol.gamma_opt)
