@@ -102,3 +102,35 @@ def test_weak_penalty_is_raised_until_exact(rho):
     poles = np.linalg.eigvals(prob.A - res.G @ prob.C)
     assert np.max(poles.real) <= -1.0 + 1e-6
     assert res.gamma == pytest.approx(0.2851, rel=1e-3)
+
+
+def test_costly_problems_screen_twice_and_keep_given_starts(monkeypatch):
+    """Above 64 gain entries on more than 32 error states the polishing
+    candidates get a second round of screening; the given starts are
+    polished whatever it says, and smaller problems skip it."""
+    rounds = []
+    real = refine._advance
+
+    def spy(args):
+        rounds.append(args[2])
+        return real(args)
+
+    monkeypatch.setattr(refine, '_advance', spy)
+    rng = np.random.default_rng(1)
+
+    def problem(n):
+        A = rng.normal(size=(n, n)) / np.sqrt(n) - 2 * np.eye(n)
+        return ObserverProblem(A, rng.normal(size=(2, n)), copies=2)
+
+    costly = problem(20)                    # 40 states, 160 entries
+    G = np.zeros(costly.gain_shape)
+    far = G + 5 * rng.normal(size=G.shape) / np.sqrt(G.size)
+    res = refine.refine_gain(costly, None, [('zero', G), ('far', far)],
+                             random_starts=0)
+    assert rounds == [refine.SECOND_ROUND] * 2
+    assert sorted(label for label, _ in res.starts) == ['far', 'zero']
+    rounds.clear()
+    small = problem(10)                     # 20 states
+    refine.refine_gain(small, None, [('given', np.zeros(small.gain_shape))],
+                       random_starts=3)
+    assert rounds == []
