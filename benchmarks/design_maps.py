@@ -12,16 +12,13 @@ Each time is the best of three runs.
     python benchmarks/design_maps.py
 """
 
-import time
-
 import numpy as np
 import control as ct
 
 import controlext as cx
 from controlext.paper import MU_SECOND_ORDER, scalar_plant, \
     second_order_plant
-
-REPEAT = 3
+from timing import best_of
 
 
 def loop(obs, xe, xs, ye, ys):
@@ -34,18 +31,6 @@ def loop(obs, xe, xs, ye, ys):
             if np.max(np.linalg.eigvals(sys.A).real) < 0:
                 out[i, j] = ct.linfnorm(sys)[0]
     return out
-
-
-def best_of(fn, repeat=REPEAT):
-    """Smallest wall-clock time of ``repeat`` runs, and the result: the
-    maps take a fraction of a second, where one run's time on a shared
-    2-core machine varies by 2x."""
-    best, out = float('inf'), None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def compare(name, obs, xe, xs, ye, ys):

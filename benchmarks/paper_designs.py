@@ -9,20 +9,11 @@ the same refined design with its starts on a 2-process pool
     python benchmarks/paper_designs.py
 """
 
-import time
 from concurrent.futures import ProcessPoolExecutor
 
 import controlext as cx
 from controlext.paper import scalar_plant, second_order_plant
-
-
-def timed(fn, repeat=3):
-    best, out = float('inf'), None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+from timing import best_of
 
 
 def main():
@@ -43,9 +34,9 @@ def main():
                     make = lambda refine, pool=None: cx.coupled_observer(
                         plant, decay=sigma, copies=N, refine=refine,
                         executor=pool)
-                t_lmi, lmi = timed(lambda: make(False))
-                t_ref, ref = timed(lambda: make(True), repeat=1)
-                t_par, par = timed(lambda: make(True, pool), repeat=1)
+                t_lmi, lmi = best_of(lambda: make(False))
+                t_ref, ref = best_of(lambda: make(True), repeat=1)
+                t_par, par = best_of(lambda: make(True, pool), repeat=1)
                 print(f"{name:<12}{N:>3}{t_lmi:>9.3f}{t_ref:>11.3f}"
                       f"{t_ref / t_lmi:>8.1f}{lmi.hinf:>10.4f}"
                       f"{ref.hinf:>11.4f}{t_par:>11.3f}{par.hinf:>9.4f}",

@@ -58,6 +58,12 @@ def test_inner_loop_runs_blas_on_one_thread():
     assert inside() and set(inside()) == {1}
 
 
+def _stable_pair(rng, n):
+    """A coupled pair on a seeded random stable n-state plant."""
+    A = rng.normal(size=(n, n)) / np.sqrt(n) - 2 * np.eye(n)
+    return ObserverProblem(A, rng.normal(size=(2, n)), copies=2)
+
+
 def test_large_gains_get_shorter_polishing(monkeypatch):
     """Above 64 gain entries on more than 64 error states the polishing
     budget shrinks (maxiter ∝ entries^-1/2, one restart); given options
@@ -71,19 +77,14 @@ def test_large_gains_get_shorter_polishing(monkeypatch):
 
     monkeypatch.setattr(refine, '_polish', spy)
     rng = np.random.default_rng(0)
-
-    def problem(n):
-        A = rng.normal(size=(n, n)) / np.sqrt(n) - 2 * np.eye(n)
-        return ObserverProblem(A, rng.normal(size=(2, n)), copies=2)
-
-    big = problem(33)                       # 66 states, 66 x 4 entries
+    big = _stable_pair(rng, 33)                       # 66 states, 66 x 4 entries
     G = np.zeros(big.gain_shape)
     refine.refine_gain(big, None, [('zero', G)], random_starts=0)
     assert seen[-1] == (max(100, round(600 * (16 / 264) ** 0.5)), 1)
     refine.refine_gain(big, None, [('zero', G)], random_starts=0,
                        maxiter=7, restarts=2)
     assert seen[-1] == (7, 2)
-    small = problem(20)                     # 40 states, 160 entries
+    small = _stable_pair(rng, 20)           # 40 states, 160 entries
     refine.refine_gain(small, None, [('zero', np.zeros(small.gain_shape))],
                        random_starts=0)
     assert seen[-1] == (600, 1)
@@ -117,12 +118,7 @@ def test_costly_problems_screen_twice_and_keep_given_starts(monkeypatch):
 
     monkeypatch.setattr(refine, '_advance', spy)
     rng = np.random.default_rng(1)
-
-    def problem(n):
-        A = rng.normal(size=(n, n)) / np.sqrt(n) - 2 * np.eye(n)
-        return ObserverProblem(A, rng.normal(size=(2, n)), copies=2)
-
-    costly = problem(20)                    # 40 states, 160 entries
+    costly = _stable_pair(rng, 20)                    # 40 states, 160 entries
     G = np.zeros(costly.gain_shape)
     far = G + 5 * rng.normal(size=G.shape) / np.sqrt(G.size)
     res = refine.refine_gain(costly, None, [('zero', G), ('far', far)],
@@ -130,7 +126,7 @@ def test_costly_problems_screen_twice_and_keep_given_starts(monkeypatch):
     assert rounds == [refine.SECOND_ROUND] * 2
     assert sorted(label for label, _ in res.starts) == ['far', 'zero']
     rounds.clear()
-    small = problem(10)                     # 20 states
+    small = _stable_pair(rng, 10)           # 20 states
     refine.refine_gain(small, None, [('given', np.zeros(small.gain_shape))],
                        random_starts=3)
     assert rounds == []
