@@ -59,7 +59,8 @@ SECOND_ROUND = 60
 SECOND_ROUND_KEEP = 1.05
 #: exact-penalty weight per unit of ``γ₀ / rate``: the multiplier of the
 #: region constraint is about ``dγ/dσ ~ γ/σ``, and a weight near it keeps
-#: the penalty's kink mild (10(1 + γ₀) measured 2–3x more evaluations)
+#: the penalty's kink mild (``10 (1 + γ₀)`` measured up to 2x more
+#: evaluations, and worse optima for three coupled copies)
 RHO = 1.0
 #: how many times a polishing run may raise that weight tenfold when it
 #: ends outside the region (the penalty is exact only above the multiplier)
