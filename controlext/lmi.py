@@ -177,38 +177,43 @@ def _stage1_is_better(problem, region, X1, Y1, X2, Y2, gamma_opt):
     in the region), its true norm is lower by more than 0.1 % and its
     norm is at most ten times the conditioned gain's (where ``γ*`` is not
     attained it is orders of magnitude larger, and is not kept)."""
-    from .exceptions import VerificationError
     from .norms import hinfnorm_matrices
-    from .verify import verify_design
-    try:
-        G1 = np.linalg.solve(0.5 * (X1 + X1.T), Y1)
-        G2 = np.linalg.solve(0.5 * (X2 + X2.T), Y2)
-    except np.linalg.LinAlgError:
+    G1, G2 = _gain(X1, Y1), _gain(X2, Y2)
+    if G1 is None or G2 is None or \
+            not np.linalg.norm(G1, 2) <= 10 * np.linalg.norm(G2, 2):
         return False
-    if not np.linalg.norm(G1, 2) <= 10 * np.linalg.norm(G2, 2):
-        return False
-    try:
-        h1 = verify_design(problem, G1, region, gamma_bound=gamma_opt,
-                           method='lmi').hinf
-    except VerificationError:
-        return False
+    report = _verified(problem, region, G1, gamma_opt)
     h2 = hinfnorm_matrices(*problem.error_system(G2), problem.dt)[0]
-    return h1 < (1 - 1e-3) * h2
+    return report is not None and report.hinf < (1 - 1e-3) * h2
 
 
 def _verifies(problem, region, Xv, Yv, gbound):
     """Does the gain of an inexact solution pass the design verification
     (true H∞ norm within ``gbound``, poles in the region)?"""
+    G = _gain(Xv, Yv)
+    return G is not None and \
+        _verified(problem, region, G, gbound) is not None
+
+
+def _gain(Xv, Yv):
+    """``G = X⁻¹ Y`` of a solution, or None."""
+    if Xv is None or Yv is None:
+        return None
+    try:
+        return np.linalg.solve(0.5 * (Xv + Xv.T), Yv)
+    except np.linalg.LinAlgError:
+        return None
+
+
+def _verified(problem, region, G, gbound):
+    """The design report of ``G`` if it verifies at ``gbound``, else None."""
     from .exceptions import VerificationError
     from .verify import verify_design
-    if Xv is None or Yv is None:
-        return False
     try:
-        G = np.linalg.solve(0.5 * (Xv + Xv.T), Yv)
-        verify_design(problem, G, region, gamma_bound=gbound, method='lmi')
-    except (np.linalg.LinAlgError, VerificationError):
-        return False
-    return True
+        return verify_design(problem, G, region, gamma_bound=gbound,
+                             method='lmi')
+    except VerificationError:
+        return None
 
 
 def _build(problem, region):

@@ -36,11 +36,6 @@ import numpy as np
 
 from .norms import hinfnorm_matrices
 
-try:
-    from slycot import ab13dd as _ab13dd
-except ImportError:         # pragma: no cover - a required dependency
-    _ab13dd = None
-
 __all__ = ['Objective']
 
 #: how many recent peak frequencies the line-search bound looks at
@@ -121,22 +116,6 @@ class Objective:
 
     def _hinf(self, Acl, Bcl, lam):
         """True H∞ norm and peak frequency (``inf`` if unstable)."""
-        unstable = np.max(np.abs(lam)) >= 1 if self.dt else \
-            np.max(lam.real) >= 0
-        if unstable:
-            return np.inf, np.nan
-        if _ab13dd is not None:
-            n = Acl.shape[0]
-            try:
-                gamma, w = _ab13dd('D' if self.dt else 'C', 'I', 'S', 'Z', n,
-                                   Bcl.shape[1], self.Ccl.shape[0], Acl,
-                                   self.eye, Bcl, self.Ccl, self.Dcl, 1e-10)
-            except Exception:       # slycot raised: the level-set fallback
-                pass
-            else:
-                if self.dt:
-                    w /= (1.0 if self.dt is True else self.dt)
-                return float(gamma), float(w)
         return hinfnorm_matrices(Acl, Bcl, self.Ccl, self.Dcl, self.dt,
                                  poles=lam)
 
@@ -155,6 +134,21 @@ class Objective:
         b = self.Dwe @ v - self.Ce @ (RB @ v)
         return np.real(np.outer(a.conj(), b))
 
+    def _peak_bound(self, Acl, Bcl):
+        """``max_k σmax(T(j w_k))`` over the recent peak frequencies
+        ``w_k``: a lower bound of the H∞ norm (``inf`` on a pole)."""
+        w = np.array(self._peaks)
+        z = np.exp(1j * w * self.dt) if self.dt else 1j * w
+        M = z[:, None, None] * self.eye - Acl
+        try:
+            T = self.Ccl @ np.linalg.solve(
+                M, np.broadcast_to(Bcl, (w.size,) + Bcl.shape))
+        except np.linalg.LinAlgError:
+            return np.inf
+        sv = np.linalg.norm(T[..., 0], axis=-1) if T.shape[-1] == 1 else \
+            np.linalg.svd(T, compute_uv=False)[..., 0]
+        return float(np.max(sv))
+
     # -- public -------------------------------------------------------------
 
     def margin(self, G):
@@ -170,21 +164,6 @@ class Objective:
         Acl = self.Ae - G @ self.Ce
         return self._hinf(Acl, G @ self.Dwe - self.Bwe,
                           np.linalg.eigvals(Acl))[0]
-
-    def _peak_bound(self, Acl, Bcl):
-        """``max_k σmax(T(j w_k))`` over the recent peak frequencies
-        ``w_k``: a lower bound of the H∞ norm (``inf`` on a pole)."""
-        w = np.array(self._peaks)
-        z = np.exp(1j * w * self.dt) if self.dt else 1j * w
-        M = z[:, None, None] * self.eye - Acl
-        try:
-            T = self.Ccl @ np.linalg.solve(
-                M, np.broadcast_to(Bcl, (w.size,) + Bcl.shape))
-        except np.linalg.LinAlgError:
-            return np.inf
-        sv = np.linalg.norm(T[..., 0], axis=-1) if T.shape[-1] == 1 else \
-            np.linalg.svd(T, compute_uv=False)[..., 0]
-        return float(np.max(sv))
 
     def __call__(self, x, grad=True, above=None):
         last = self._last
