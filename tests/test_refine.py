@@ -67,7 +67,8 @@ def _stable_pair(rng, n):
 def test_large_gains_get_shorter_polishing(monkeypatch):
     """Above 64 gain entries on more than 64 error states the polishing
     budget shrinks (maxiter ∝ entries^-1/2, one restart); given options
-    are used as they are; small error systems keep 600 iterations."""
+    are used as they are; small error systems keep 600 iterations, and
+    small gains restart BFGS more often within the same 2400 steps."""
     seen = []
     real = refine._polish
 
@@ -88,6 +89,13 @@ def test_large_gains_get_shorter_polishing(monkeypatch):
     refine.refine_gain(small, None, [('zero', np.zeros(small.gain_shape))],
                        random_starts=0)
     assert seen[-1] == (600, 1)
+    # up to 64 entries: a fresh Hessian estimate every max(150, 10 entries)
+    # steps, within 2400 steps in all
+    for n, every in ((1, 150), (4, 320), (8, 600)):  # 8, 32, 64 entries
+        tiny = _stable_pair(rng, n)
+        refine.refine_gain(tiny, None, [('zero', np.zeros(tiny.gain_shape))],
+                           random_starts=0)
+        assert seen[-1] == (every, 2400 // every - 1)
 
 
 @pytest.mark.parametrize('rho', [1e-4, 1e-2])
