@@ -39,7 +39,7 @@ def is_stable(sys_or_poles, dt=0):
         poles = np.asarray(sys_or_poles, dtype=complex)
     if poles.size == 0:
         return True
-    return bool(np.max(np.abs(poles)) < 1 if dt else np.max(poles.real) < 0)
+    return bool(np.abs(poles).max() < 1 if dt else poles.real.max() < 0)
 
 
 def hinfnorm(sys, tol=1e-10):
@@ -101,7 +101,7 @@ def hinfnorm_matrices(A, B, C, D, dt=0, tol=1e-10, poles=None):
         return (float(la.svdvals(D)[0]) if D.size else 0.0), 0.0
     if _ab13dd is not None:
         try:
-            jobd = 'Z' if not np.any(D) else 'D'
+            jobd = 'D' if D.any() else 'Z'
             gamma, fpeak = _ab13dd('D' if dt else 'C', 'I', 'S', jobd, n,
                                    B.shape[1], C.shape[0], A, np.eye(n), B,
                                    C, D, tol)

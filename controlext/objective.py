@@ -32,6 +32,8 @@ Examples
 (0.8, (1,))
 """
 
+import math
+
 import numpy as np
 
 from .norms import hinfnorm_matrices
@@ -40,6 +42,7 @@ __all__ = ['Objective']
 
 #: how many recent peak frequencies the line-search bound looks at
 PEAKS = 4
+_ONE = np.ones(1)
 
 
 class Objective:
@@ -97,7 +100,7 @@ class Objective:
         if self.region is None:
             return Acl, lam, V, -np.inf, None
         m = self.region.margins(lam)
-        i, j = np.unravel_index(np.argmax(m), m.shape)
+        i, j = divmod(int(m.argmax()), m.shape[1])
         return Acl, lam, V, float(m[i, j]), (i, j)
 
     def _margin_grad(self, lam, V, crit):
@@ -126,7 +129,7 @@ class Objective:
         RB = np.linalg.solve(M, Bcl)
         T = self.Ccl @ RB
         if T.shape[1] == 1:                 # one noise input: no SVD
-            u, v = T[:, 0] / np.linalg.norm(T), np.ones(1)
+            u, v = T[:, 0] / np.linalg.norm(T), _ONE
         else:
             U, _, Vh = np.linalg.svd(T)
             u, v = U[:, 0], Vh[0].conj()
@@ -141,13 +144,12 @@ class Objective:
         z = np.exp(1j * w * self.dt) if self.dt else 1j * w
         M = z[:, None, None] * self.eye - Acl
         try:
-            T = self.Ccl @ np.linalg.solve(
-                M, np.broadcast_to(Bcl, (w.size,) + Bcl.shape))
+            T = self.Ccl @ np.linalg.solve(M, Bcl[None])
         except np.linalg.LinAlgError:
             return np.inf
         sv = np.linalg.norm(T[..., 0], axis=-1) if T.shape[-1] == 1 else \
             np.linalg.svd(T, compute_uv=False)[..., 0]
-        return float(np.max(sv))
+        return float(sv.max())
 
     # -- public -------------------------------------------------------------
 
@@ -166,20 +168,24 @@ class Objective:
                           np.linalg.eigvals(Acl))[0]
 
     def __call__(self, x, grad=True, above=None):
+        # the line search asks again for the point it has just accepted:
+        # the points are compared by their bytes (np.array_equal costs
+        # more than the rest of a rejected trial point)
+        key = x.tobytes()
         last = self._last
-        if last is not None and last[0].shape == x.shape and \
-                np.array_equal(last[0], x):
-            G, Acl, Bcl, lam, V, m, crit, gamma, w = last[1:]
+        if last is not None and last[0] == key:
+            G, Acl, Bcl, lam, V, m, crit, gamma, w, sq = last[1:]
         else:
             self.count += 1
             G = x.reshape(self.shape)
             Acl, lam, V, m, crit = self._point(G)
             Bcl = G @ self.Dwe - self.Bwe
+            sq = float(np.sum(G * G))
             if above is not None and self._peaks:
                 # a line search only asks whether f(x) > above: the penalty
                 # and the gain at recent peak frequencies (a lower bound of
                 # the norm) often say so without ab13dd
-                bound = self.tikhonov * float(np.sum(G * G)) + \
+                bound = self.tikhonov * sq + \
                     self.rho * max(0.0, m + self.delta)
                 peak = np.inf
                 if bound <= above or m <= 0:
@@ -188,15 +194,16 @@ class Objective:
                 if bound > above and (m > 0 or peak >= self.best[0]):
                     return bound, None
             gamma, w = self._hinf(Acl, Bcl, lam)
-            self._last = (x.copy(), G, Acl, Bcl, lam, V, m, crit, gamma, w)
-            if np.isfinite(w) and all(abs(w - p) > 1e-3 * (abs(w) + 1e-9)
-                                      for p in self._peaks):
+            self._last = (key, G.copy(), Acl, Bcl, lam, V, m, crit, gamma,
+                          w, sq)
+            if math.isfinite(w) and all(abs(w - p) > 1e-3 * (abs(w) + 1e-9)
+                                        for p in self._peaks):
                 self._peaks = [w] + self._peaks[:PEAKS - 1]
-            if np.isfinite(gamma) and m <= 0 and gamma < self.best[0]:
+            if math.isfinite(gamma) and m <= 0 and gamma < self.best[0]:
                 self.best = (gamma, G.copy())
-        if not np.isfinite(gamma):
+        if not math.isfinite(gamma):
             return np.inf, (np.zeros_like(x) if grad else None)
-        value = gamma + self.tikhonov * float(np.sum(G * G))
+        value = gamma + self.tikhonov * sq
         penalised = m + self.delta > 0
         if penalised:
             value += self.rho * (m + self.delta)
