@@ -70,13 +70,13 @@ def test_large_gains_get_shorter_polishing(monkeypatch):
     are used as they are; small error systems keep 600 iterations, and
     small gains restart BFGS more often within the same 2400 steps."""
     seen = []
-    real = refine._polish
+    real = refine._polish_step
 
     def spy(args):
         seen.append(args[2:4])
         return real(args)
 
-    monkeypatch.setattr(refine, '_polish', spy)
+    monkeypatch.setattr(refine, '_polish_step', spy)
     rng = np.random.default_rng(0)
     big = _stable_pair(rng, 33)                       # 66 states, 66 x 4 entries
     G = np.zeros(big.gain_shape)
@@ -138,3 +138,48 @@ def test_costly_problems_screen_twice_and_keep_given_starts(monkeypatch):
     refine.refine_gain(small, None, [('given', np.zeros(small.gain_shape))],
                        random_starts=3)
     assert rounds == []
+
+
+def test_polishing_race_stops_only_stalled_runs_far_behind(monkeypatch):
+    """After each round of segments a run stops when it is more than
+    RACE_KEEP behind the leader *and* its last segment gained less than
+    RACE_PROGRESS; a run far behind that still gains fast goes on (with
+    three copies such runs won), one close to the leader goes on too."""
+    scripts = {                 # segment end values of four scripted runs
+        'leader': [1.00, 0.99, 0.989],
+        'stalled far behind': [1.30, 1.29, 1.285, 1.28],
+        'gaining fast': [2.00, 1.50, 1.10, 0.95],
+        'close behind': [1.02, 1.015, 1.012, 1.011, 1.0105],
+    }
+    segments = []
+
+    def step(args):
+        obj, run, maxiter, restarts = args
+        run = dict(run, points=1)
+        if run['stop']:
+            run['result'] = (run['value'], run['x'])
+            return run
+        name = run['x']
+        values = scripts[name]
+        k = run['restart']
+        segments.append(name)
+        value = values[k]
+        run['gain'] = (run['value'] - value) / value \
+            if np.isfinite(run['value']) else np.inf
+        run.update(value=value, restart=k + 1)
+        if k + 1 == len(values):
+            run['result'] = (value, name)
+        return run
+
+    monkeypatch.setattr(refine, '_polish_step', step)
+    results, points = refine._polish(None, None, [(name, (np.inf, None))
+                                                  for name in scripts], 0, 0)
+    ran = {name: segments.count(name) for name in scripts}
+    # 'stalled far behind' is 1.29/0.99 = 1.30x behind after round 2 with
+    # a gain of 0.8 %: it stops there; 'gaining fast' (36 % in round 3)
+    # goes on and leads after round 4 with 0.95, when 'close behind' is
+    # 1.011/0.95 = 1.064x behind, gaining 0.1 %: it stops then
+    assert ran == {'leader': 3, 'stalled far behind': 2, 'gaining fast': 4,
+                   'close behind': 4}
+    assert [value for value, _ in results] == [0.989, 1.29, 0.95, 1.011]
+    assert points == 3 + (2 + 1) + 4 + (4 + 1)  # a stopped run finishes
