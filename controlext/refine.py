@@ -40,6 +40,7 @@ import time
 
 import numpy as np
 
+from .bfgs import bfgs
 from .exceptions import VerificationError
 from .objective import Objective
 from .verify import REGION_TOL
@@ -118,67 +119,6 @@ class RefineResult:
     time: float = 0.0
 
 
-def _bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7):
-    """BFGS with a weak-Wolfe bisection line search (Lewis & Overton).
-
-    ``f(x, grad=True)`` returns ``(value, gradient)`` (``(value, None)``
-    with ``grad=False``) and may return ``inf`` outside its domain; the
-    line search asks for the gradient only at points that pass the
-    sufficient-decrease test.  ``stop(x, fx)`` ends the run early when it
-    returns True; the run also ends when ``stall`` iterations improved
-    ``f`` by less than ``stall_tol`` (relative): on a nonsmooth objective
-    BFGS otherwise keeps creeping towards the kink.
-    """
-    x = np.array(x0, dtype=float)
-    fx, gx = f(x)
-    if not np.isfinite(fx):
-        return x, fx
-    nvar = x.size
-    H = np.eye(nvar) / max(1.0, np.linalg.norm(gx))
-    history = [fx]
-    for _ in range(maxiter):
-        if stop is not None and stop(x, fx):
-            break
-        if len(history) > stall and \
-                history[-stall - 1] - fx <= stall_tol * abs(fx):
-            break
-        d = -H @ gx
-        if gx @ d >= 0:
-            H = np.eye(nvar) / max(1.0, np.linalg.norm(gx))
-            d = -H @ gx
-        slope = gx @ d
-        lo, hi, t = 0.0, np.inf, 1.0
-        found = False
-        for _ in range(40):
-            xn = x + t * d
-            fn, gn = f(xn, grad=False, above=fx + 1e-4 * t * slope)
-            if not fn <= fx + 1e-4 * t * slope:
-                hi = t
-            else:
-                fn, gn = f(xn)
-                if gn @ d >= 0.9 * slope:
-                    found = True
-                    break
-                lo = t
-            t = 0.5 * (lo + hi) if np.isfinite(hi) else 2.0 * lo
-        if not found:
-            fn, gn = f(xn)      # the true value, not a bound
-            if not (np.isfinite(fn) and fn < fx):
-                break
-        s, y = xn - x, gn - gx
-        x, fx, gx = xn, fn, gn
-        history.append(fx)
-        sy = s @ y
-        if sy > 1e-16:
-            rho = 1.0 / sy
-            Hy = H @ y
-            H = H + ((sy + y @ Hy) * rho**2) * np.outer(s, s) \
-                - rho * (np.outer(Hy, s) + np.outer(s, Hy))
-        if np.linalg.norm(s) <= 1e-12 * max(1.0, np.linalg.norm(x)):
-            break
-    return x, fx
-
-
 def _make_feasible(obj, G, target, maxiter=200):
     """Push the worst region margin below ``target`` (phase 1)."""
     if obj.region is None or obj.margin(G)[0] <= target:
@@ -188,7 +128,7 @@ def _make_feasible(obj, G, target, maxiter=200):
         m, g = obj.margin(x.reshape(G.shape))
         return m, g.ravel()
 
-    x, _ = _bfgs(f, G.ravel(), maxiter, stop=lambda x, fx: fx <= target)
+    x, _ = bfgs(f, G.ravel(), maxiter, stop=lambda x, fx: fx <= target)
     G = x.reshape(G.shape)
     return G if obj.margin(G)[0] <= target else None
 
@@ -249,7 +189,7 @@ def _screen(args):
     if pushed is None:
         return np.inf, None, obj.count - before
     G = pushed
-    x, fx = _bfgs(obj, G.ravel(), iterations, stall=8, stall_tol=1e-6)
+    x, fx = bfgs(obj, G.ravel(), iterations, stall=8, stall_tol=1e-6)
     if not np.isfinite(fx):
         return np.inf, None, obj.count - before
     return fx, (x, obj.best), obj.count - before
@@ -262,7 +202,7 @@ def _advance(args):
     obj, (x, best), iterations = args
     before = obj.count
     obj.best = best
-    x, fx = _bfgs(obj, x, iterations, stall=8, stall_tol=1e-6)
+    x, fx = bfgs(obj, x, iterations, stall=8, stall_tol=1e-6)
     return fx, (x, obj.best), obj.count - before
 
 
@@ -307,7 +247,7 @@ def _polish_step(args):
             if run['fx'] is None:               # an escalation starts
                 run['fx'] = obj(x)[0]
             fx = run['fx']
-            x, fnew = _bfgs(obj, x, maxiter, stall=30, stall_tol=1e-9)
+            x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=1e-9)
             run['gain'] = (run['value'] - fnew) / abs(fnew) \
                 if np.isfinite(run['value']) else np.inf
             run.update(x=x, value=fnew, fx=fnew, restart=run['restart'] + 1)
