@@ -23,7 +23,6 @@ Plant families (``--family``):
 """
 
 import argparse
-import time
 import warnings
 
 import numpy as np
@@ -31,6 +30,7 @@ import cvxpy as cp
 import control as ct
 
 import controlext as cx
+from timing import best_of
 
 SIGMA = 1.0
 
@@ -96,12 +96,6 @@ def straightforward_lmi(P):
         prob.status
 
 
-def timed(fn):
-    t0 = time.perf_counter()
-    out = fn()
-    return time.perf_counter() - t0, out
-
-
 def decay_holds(obs):
     return bool(np.max(ct.poles(obs).real) <= -SIGMA + 1e-6)
 
@@ -118,8 +112,8 @@ def main(sizes, family, baseline_max):
         P = plant(n, family=family)
         mark = ' '
         if n <= baseline_max:
-            tb, (lb, gb, nb, okb, status) = timed(
-                lambda: straightforward_lmi(P))
+            tb, (lb, gb, nb, okb, status) = best_of(
+                lambda: straightforward_lmi(P), repeat=1)
             base = (f"{tb:>7.2f} {lb:>8.4g} {gb:>8.4g} {nb:>8.3g} "
                     f"{'y' if okb else 'n':>2} {status:>18}")
             if not np.isfinite(gb):     # its gain does not even stabilise
@@ -128,9 +122,10 @@ def main(sizes, family, baseline_max):
             tb = gb = np.nan
             base = (f"{'—':>7} {'—':>8} {'—':>8} {'—':>8} {'':>2} "
                     f"{'skipped':>18}")
-        tc, conv = timed(lambda: cx.coupled_observer(P, decay=SIGMA,
-                                                     refine=False))
-        tr, ref = timed(lambda: cx.coupled_observer(P, decay=SIGMA))
+        tc, conv = best_of(lambda: cx.coupled_observer(
+            P, decay=SIGMA, refine=False), repeat=1)
+        tr, ref = best_of(lambda: cx.coupled_observer(P, decay=SIGMA),
+                          repeat=1)
         print(f"{n:>3} | {base} | {tc:>8.2f} {tb / tc:>6.1f} "
               f"{conv.hinf:>8.4g} {conv.hinf / gb:>5.3f}{mark} "
               f"{np.linalg.norm(conv.G, 2):>8.3g} "

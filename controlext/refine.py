@@ -248,8 +248,6 @@ def _polish_step(args):
                 run['fx'] = obj(x)[0]
             fx = run['fx']
             x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=1e-9)
-            run['gain'] = (run['value'] - fnew) / abs(fnew) \
-                if np.isfinite(run['value']) else np.inf
             run.update(x=x, value=fnew, fx=fnew, restart=run['restart'] + 1)
             if not fnew < fx - 1e-7 * abs(fx) or run['restart'] > restarts:
                 if obj.region is None or run['escalation'] >= ESCALATIONS \
@@ -260,7 +258,6 @@ def _polish_step(args):
                     run.update(rho=obj.rho, escalation=run['escalation'] + 1,
                                restart=0, fx=None)
         if run['stop']:
-            obj.rho = base
             run['result'] = _finish(obj, run['x'])
     finally:
         obj.rho = base
@@ -279,7 +276,7 @@ def _polish(executor, obj, screened, maxiter, restarts):
     there.  The result does not depend on the executor.
     """
     runs = [dict(x=x, best=best, rho=None, escalation=0, restart=0,
-                 fx=None, value=np.inf, gain=np.inf, stop=False,
+                 fx=None, value=np.inf, stop=False,
                  result=None) for x, best in screened]
     points = 0
     while True:
@@ -288,6 +285,9 @@ def _polish(executor, obj, screened, maxiter, restarts):
             break
         for k, run in zip(going, _map(executor, _polish_step, [
                 (obj, runs[k], maxiter, restarts) for k in going])):
+            before = runs[k]['value']
+            run['gain'] = (before - run['value']) / abs(run['value']) \
+                if np.isfinite(before) else np.inf
             runs[k] = run
             points += run['points']
         lead = min(run['value'] for run in runs)

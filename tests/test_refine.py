@@ -164,8 +164,6 @@ def test_polishing_race_stops_only_stalled_runs_far_behind(monkeypatch):
         k = run['restart']
         segments.append(name)
         value = values[k]
-        run['gain'] = (run['value'] - value) / value \
-            if np.isfinite(run['value']) else np.inf
         run.update(value=value, restart=k + 1)
         if k + 1 == len(values):
             run['result'] = (value, name)
