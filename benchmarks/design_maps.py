@@ -16,7 +16,7 @@ import numpy as np
 import control as ct
 
 import controlext as cx
-from controlext.paper import MU_SECOND_ORDER, scalar_plant, \
+from controlext.paper.tables import MU_SECOND_ORDER, scalar_plant, \
     second_order_plant
 from timing import best_of
 

@@ -8,15 +8,19 @@ estimation-error system, so python-control's tools apply directly.
 from .exceptions import (ControlextError, DimensionError, ArgumentError,
                          ParameterError, NotDetectableError, RegionError,
                          SolverError, VerificationError)
-# pole regions  (regions.py)
-from .regions import Region, HalfPlane, Disk, Sector
 # the H∞ norm with MATLAB's meaning  (norms.py)
 from .norms import hinfnorm, is_stable
-# the generalised plant and the engine  (problem.py, lmi.py, verify.py)
-from .problem import ObserverProblem
-from .verify import DesignReport
-# observer objects  (observers.py)
-from .observers import Observer, LuenbergerObserver, CoupledObserver
+# the engine: generalised plant, options, pole regions, reports
+# (synthesis/)
+from .synthesis import (ObserverProblem, SynthesisOptions, RefineOptions,
+                        DesignReport, Region, HalfPlane, Disk, Sector)
+# the observer base  (observers.py)
+from .observers import Observer
+# the Luenberger observer  (luenberger.py)
+from .luenberger import (LuenbergerObserver, luenberger_observer,
+                         hinf_observer)
+# coupled Luenberger observers  (coupled.py)
+from .coupled import CoupledObserver, coupled_observer
 # GI observers  (gi.py)
 from .gi import GIObserver, gi_observer, range_basis, projection
 # analysis of Section III  (analysis.py)
@@ -30,8 +34,6 @@ from .maps import DesignMap, design_map
 # plots (matplotlib, optional)  (plot.py)
 from .plot import (error_plot, estimate_plot, tradeoff_plot,
                    design_map_plot, pole_region_plot)
-# factories  (design.py)
-from .design import luenberger_observer, hinf_observer, coupled_observer
 
 __version__ = '0.1.0'
 
@@ -40,7 +42,7 @@ __all__ = [
     'NotDetectableError', 'RegionError', 'SolverError', 'VerificationError',
     'Region', 'HalfPlane', 'Disk', 'Sector',
     'hinfnorm', 'is_stable',
-    'ObserverProblem', 'DesignReport',
+    'ObserverProblem', 'SynthesisOptions', 'RefineOptions', 'DesignReport',
     'Observer', 'LuenbergerObserver', 'CoupledObserver',
     'luenberger_observer', 'hinf_observer', 'coupled_observer',
     'GIObserver', 'gi_observer', 'range_basis', 'projection',

@@ -23,7 +23,7 @@ def main(argv=None):
     print("Li & Sanfelice, Section IV: published numbers and controlext's")
     print(format_table(rows))
     if not args.no_figures:
-        from .figures import write_all
+        from .paper.figures import write_all
         paths = write_all(args.out)
         print(f"\nfigures written to {args.out}/:")
         for path in paths:

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import control as ct
 
-from .lmi import decay_certificate
+from .synthesis.lmi import decay_certificate
 
 __all__ = ['spectral_abscissa', 'log_norm', 'eig_condition', 'ISSEstimate',
            'iss_estimate', 'ConditionCheck', 'check_lemma_3_2',
@@ -182,7 +182,7 @@ def check_lemma_3_3(luenberger, coupled, alpha0=None, alpha=None,
 
     For each observer the rate is taken as ``fraction`` of its decay rate
     unless given, and ``P`` is the best-conditioned matrix with
-    ``Ãᵀ P + P Ã ≤ −2 α P`` (:func:`controlext.lmi.decay_certificate`).
+    ``Ãᵀ P + P Ã ≤ −2 α P`` (:func:`controlext.synthesis.lmi.decay_certificate`).
 
     Examples
     --------
@@ -320,7 +320,8 @@ def tradeoff_curve(plant, decays, copies=(1, 2, 3), executor=None,
 
 def _tradeoff_point(job):
     """One design of a trade-off curve (module level: picklable)."""
-    from .design import coupled_observer, hinf_observer
+    from .coupled import coupled_observer
+    from .luenberger import hinf_observer
     (A, B, C, D, dt), sigma, N, kwargs = job
     plant = ct.ss(A, B, C, D, dt)
     obs = hinf_observer(plant, decay=sigma, **kwargs) if N == 1 \

@@ -13,13 +13,19 @@ Luenberger synthesis on the generalised plant with ``Bw (I − Π)`` and
 
 The augmented GI observer also estimates the constant component of ``w``
 in ``range(C)``, written ``d = U α`` with ``U`` an orthonormal basis of
-``range(C)`` (the seed's scalar form is ``U = C/|C|``).  With ``α' = 0`` the
-augmented plant is ``Aa = [[A, Bw U], [0, 0]]``, ``Ca = [C, U]`` and gain
-``[L; Lw]``; in the states ``(e, α̂)`` its error system from ``w`` has the
-same engine form with ``Bw_a = [Bw (I − Π); 0]``, ``Dw = I − Π`` and
-``Cz = [I, 0]``, and its DC gain is zero: constant disturbances are
-rejected exactly, the part in ``range(C)`` by estimation and the part
-outside it by measurement.
+``range(C)`` (the seed's scalar form is ``U = C/|C|``).  With a constant
+``α`` — ``α' = 0`` in continuous time, ``α(k+1) = α(k)`` in discrete
+time — the augmented plant is ``Aa = [[A, Bw U], [0, Λ]]`` (``Λ = 0``,
+respectively ``I``), ``Ca = [C, U]`` and gain ``[L; Lw]``; in the states
+``(e, α̂)`` its error system from ``w`` has the same engine form with
+``Bw_a = [Bw (I − Π); 0]``, ``Dw = I − Π`` and ``Cz = [I, 0]``, and its DC
+gain is zero: constant disturbances are rejected exactly, the part in
+``range(C)`` by estimation and the part outside it by measurement.
+
+All of it — the measurement map ``I − Π``, the feed-forward ``Bw Π`` and
+the disturbance model — is held by the observer's
+:class:`~controlext.synthesis.ObserverProblem`, from which both the error
+system and the runnable estimator are derived.
 
 The design uses the bounded-real lemma with its output term
 ``[..., Czᵀ; ..., −γI]``; without that term, as in the final LMI of the GI
@@ -34,24 +40,24 @@ Examples
 ...               [[1.0, 0.0], [1.0, 0.0]], 0)
 >>> Bw = np.array([[0.5, 0.2], [0.0, 1.0]])
 >>> obs = cx.GIObserver(plant, [[1.0, 1.0], [0.5, 0.5]], Bw)
->>> bool(np.allclose(obs.B @ obs.Pi, 0))
-True
+>>> obs.invariant_directions
+1
 """
 
-import time
 import warnings
 
 import numpy as np
 import scipy.linalg as la
-import control as ct
 
-from ._checks import (as_matrix, as_plant, check_detectable,
-                      check_region_reachable)
-from .exceptions import ArgumentError, ParameterError
+from ._checks import as_matrix, as_plant, check_copies
+from .exceptions import ArgumentError
 from .observers import Observer
-from .problem import ObserverProblem
+from .synthesis import ObserverProblem, SynthesisOptions
+from .synthesis.problem import signals_of
+from .synthesis.pipeline import design
 
-__all__ = ['GIObserver', 'gi_observer', 'range_basis', 'projection']
+__all__ = ['GIObserver', 'gi_observer', 'range_basis', 'projection',
+           'gi_problem']
 
 
 def range_basis(C, tol=1e-10):
@@ -82,54 +88,73 @@ def projection(C):
     return np.eye(U.shape[0]) - U @ U.T
 
 
-def _gi_problem(A, C, Bw, augmented, copies=1, weights=None, dt=0):
-    """Generalised plant of the (augmented) GI observer."""
+def gi_problem(plant, Bw, augmented=False, copies=1, weights=None):
+    """The generalised plant of the (augmented, coupled) GI observer.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import control as ct
+    >>> from controlext.gi import gi_problem
+    >>> plant = ct.ss([[0.9]], [[1.0]], [[1.0], [1.0]], 0, 1.0)
+    >>> prob = gi_problem(plant, [[0.5, 0.0]], augmented=True)
+    >>> prob.A.round(4).tolist()         # alpha(k+1) = alpha(k)
+    [[0.9, 0.3536], [0.0, 1.0]]
+    """
+    A, B, C, D, dt = as_plant(plant)
     n, p = A.shape[0], C.shape[0]
+    Bw = as_matrix(Bw, 'Bw', (n, p))
     U = range_basis(C)
     r = U.shape[1]
     Pi = np.eye(p) - U @ U.T
+    common = dict(copies=copies, weights=weights, dt=dt, D=D,
+                  measure=np.eye(p) - Pi, plant_noise=(Bw, np.eye(p)),
+                  states=n, signals=signals_of(plant))
     if not augmented:
         return ObserverProblem(A, C, Bw @ (np.eye(p) - Pi), np.eye(p) - Pi,
-                               np.eye(n), copies=copies, weights=weights,
-                               dt=dt), U, Pi
-    Aa = np.block([[A, Bw @ U], [np.zeros((r, n + r))]])
+                               np.eye(n), B=B, feed=Bw @ Pi, **common)
+    hold = np.eye(r) if dt else np.zeros((r, r))
+    Aa = np.block([[A, Bw @ U], [np.zeros((r, n)), hold]])
     Ca = np.hstack([C, U])
     Bwa = np.vstack([Bw @ (np.eye(p) - Pi), np.zeros((r, p))])
     Cza = np.hstack([np.eye(n), np.zeros((n, r))])
-    return ObserverProblem(Aa, Ca, Bwa, np.eye(p) - Pi, Cza, copies=copies,
-                           weights=weights, dt=dt), U, Pi
-
-
-def _check_gi_plant(plant, Bw):
-    A, B, C, D, dt = as_plant(plant)
-    Bw = as_matrix(Bw, 'Bw', (A.shape[0], C.shape[0]))
-    return A, B, C, D, dt, Bw
+    return ObserverProblem(
+        Aa, Ca, Bwa, np.eye(p) - Pi, Cza,
+        B=np.vstack([B, np.zeros((r, B.shape[1]))]),
+        feed=np.vstack([Bw @ Pi, np.zeros((r, p))]),
+        extra_outputs=('dhat', U), **common)
 
 
 class GIObserver(Observer):
-    """GI observer (plain or augmented) realised as its error system.
+    """GI observer (plain or augmented, one or more copies), realised as
+    its error system.
 
     The realisation is the error system from the **full** disturbance
-    ``w`` (all ``p`` components) to the state error ``x̂ − x``, so the
-    invariance is visible: ``obs.B @ obs.Pi == 0``.  Plain form:
-    ``(A − L C, (L − Bw)(I − Π), I, 0)``; augmented form: states
-    ``(e, α̂)`` and ``ct.dcgain(obs) == 0``.
+    ``w`` (all ``p`` components) to the state error ``x̂ − x``: plain form
+    ``(A − L C, (L − Bw)(I − Π), I, 0)``; augmented form with states
+    ``(e, α̂)`` and ``ct.dcgain(obs) == 0``.  Its transfer function
+    vanishes on ``range(Π)``: a disturbance there does not reach the
+    estimate, whatever the gain.
 
     Parameters
     ----------
     plant : control.StateSpace
         Plant ``x' = A x + B u + Bw w``, ``y = C x + D u + w``.
     L : array_like
-        Observer gain (``n × p``).
+        Observer gain (``n × p``; ``N n × N p`` for ``N`` copies).
     Bw : array_like
         Disturbance input matrix (``n × p``).
     augmented : bool, optional
         Also estimate the constant disturbance in ``range(C)``.
     Lw : array_like, optional
-        Gain of the disturbance estimate (``r × p``, ``r = rank C``);
-        required when ``augmented``.
+        Gain of the disturbance estimate (``r × p``, ``r = rank C``;
+        ``N r × N p`` for ``N`` copies); required when ``augmented``.
+    weights : array_like, optional
+        Output weights of the copies.
     name : str, optional
         System name.
+    copies : int, optional
+        Number of coupled copies.
 
     Attributes
     ----------
@@ -157,91 +182,72 @@ class GIObserver(Observer):
 
     def __init__(self, plant, L, Bw, augmented=False, Lw=None, weights=None,
                  name=None, report=None, copies=1):
-        A, B, C, D, dt, Bw = _check_gi_plant(plant, Bw)
-        problem, U, Pi = _gi_problem(A, C, Bw, augmented, copies, weights,
-                                     dt)
-        n, p, r = A.shape[0], C.shape[0], U.shape[1]
+        copies = check_copies(copies)
+        problem = gi_problem(plant, Bw, augmented, copies, weights)
+        n, p, N = problem.nx, problem.p, copies
+        r = problem.n - n
+        L = as_matrix(L, 'L', (N * n, N * p))
         if augmented:
             if Lw is None:
                 raise ArgumentError("the augmented GI observer needs Lw "
-                                    f"(the {r} × {p} disturbance gain)")
-            L = as_matrix(L, 'L', (copies * n, copies * p))
-            Lw = as_matrix(Lw, 'Lw', (copies * r, copies * p))
-            G = _interleave(L, Lw, n, r, copies)
+                                    f"(the {N * r} × {N * p} disturbance "
+                                    "gain)")
+            Lw = as_matrix(Lw, 'Lw', (N * r, N * p))
+            G = np.empty(problem.gain_shape)
+            rows = _rows(problem)
+            G[rows[:, :n].ravel()] = L
+            G[rows[:, n:].ravel()] = Lw
         else:
             if Lw is not None:
                 raise ArgumentError("Lw is only used by the augmented GI "
                                     "observer (augmented=True)")
-            G = as_matrix(L, 'L', (copies * n, copies * p))
-        self.Pi, self.U, self.augmented = Pi, U, bool(augmented)
-        self.gi_Bw = Bw
-        self.invariant_directions = p - r
-        if self.invariant_directions == 0:
-            warnings.warn("range(C) is all of R^p (Π = 0): the GI observer "
-                          "equals the classic observer", UserWarning,
-                          stacklevel=2)
-        super().__init__(ct.ss(plant), problem, G, report=report, name=name)
+            G = L
+        _warn_if_classic(problem)
+        super().__init__(problem, G, report=report, name=name)
+
+    Pi = property(lambda self: np.eye(self.problem.p) - self.problem.measure,
+                  doc="The projection Π onto the complement of range(C).")
+    U = property(lambda self: range_basis(self.problem.C[:, :self.problem.nx]),
+                 doc="Orthonormal basis of range(C).")
+    augmented = property(lambda self: self.problem.n > self.problem.nx,
+                         doc="Does the observer estimate the disturbance?")
+    invariant_directions = property(
+        lambda self: int(round(np.trace(self.Pi))),
+        doc="rank Π: disturbance directions the observer is blind to.")
+    gi_Bw = property(lambda self: self.problem.plant_Bw.copy(),
+                     doc="The plant's disturbance input matrix Bw.")
 
     @property
     def L(self):
         """State gain ``L``."""
-        return self._split()[0]
+        return self.G[_rows(self.problem)[:, :self.problem.nx].ravel()]
 
     @property
     def Lw(self):
         """Disturbance-estimate gain ``Lw`` (augmented form), else None."""
-        return self._split()[1] if self.augmented else None
-
-    def _split(self):
-        n, r, N = self.plant.nstates, self.U.shape[1], self.copies
         if not self.augmented:
-            return self.G.copy(), None
-        m = n + r
-        rows = np.arange(N * m).reshape(N, m)
-        return (self.G[rows[:, :n].ravel()].copy(),
-                self.G[rows[:, n:].ravel()].copy())
-
-    def estimator(self, name=None):
-        """The runnable GI observer: inputs ``[u; y]``, outputs ``x̂`` (and
-        the disturbance estimate ``d̂ = U α̂`` in the augmented form)."""
-        if self.copies != 1:
-            return super().estimator(name)
-        plant = self.plant
-        A, B, C, D = plant.A, plant.B, plant.C, plant.D
-        n, p = A.shape[0], C.shape[0]
-        prob, G, Pi = self.problem, self.G, self.Pi
-        Ay = prob.A - G @ prob.C                    # (Aa - Ga Ca)
-        m = Ay.shape[0]
-        Byy = G @ (np.eye(p) - Pi) + np.vstack(
-            [self.gi_Bw @ Pi, np.zeros((m - n, p))])
-        Bu = np.vstack([B, np.zeros((m - n, B.shape[1]))]) - Byy @ D
-        outputs = [f'xhat[{i}]' for i in range(n)]
-        Cout = np.hstack([np.eye(n), np.zeros((n, m - n))])
-        if self.augmented:
-            Cout = np.vstack([Cout, np.hstack([np.zeros((p, n)), self.U])])
-            outputs += [f'dhat[{i}]' for i in range(p)]
-        states = [f'xhat[{i}]' for i in range(n)] + \
-            [f'alphahat[{i}]' for i in range(m - n)]
-        return ct.ss(Ay, np.hstack([Bu, Byy]), Cout,
-                     np.zeros((Cout.shape[0], B.shape[1] + p)), plant.dt,
-                     name=name or f'{self.name}_estimator',
-                     inputs=list(plant.input_labels) +
-                     list(plant.output_labels), outputs=outputs,
-                     states=states)
+            return None
+        return self.G[_rows(self.problem)[:, self.problem.nx:].ravel()]
 
 
-def _interleave(L, Lw, n, r, N):
-    """Stack per-copy blocks ``[L_k; Lw_k]`` into the augmented gain."""
-    rows = []
-    for k in range(N):
-        rows += [L[k * n:(k + 1) * n], Lw[k * r:(k + 1) * r]]
-    return np.vstack(rows)
+def _rows(problem):
+    """Row indices of the gain, one row of the array per copy."""
+    return np.arange(problem.copies * problem.n).reshape(problem.copies,
+                                                         problem.n)
+
+
+def _warn_if_classic(problem, stacklevel=3):
+    if not np.any(problem.measure - np.eye(problem.p)):
+        warnings.warn("range(C) is all of R^p (Π = 0): the GI observer "
+                      "equals the classic observer", UserWarning,
+                      stacklevel=stacklevel)
 
 
 def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
-                weights=None, region=None, refine=True, margin=1.02,
-                solver=None, solver_options=None, seed=0,
-                refine_options=None, name=None):
+                weights=None, region=None, method='auto', refine=True,
+                margin=1.02, solver=None, solver_options=None, seed=0,
+                refine_options=None, executor=None, options=None,
+                  name=None):
     """H∞-optimal GI observer (optionally augmented, optionally coupled).
 
     Parameters
@@ -256,10 +262,14 @@ def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
         Also estimate the constant disturbance in ``range(C)``.
     copies : int, optional
         ``>= 2`` gives a coupled GI observer.
-    weights, region, refine, margin, solver, solver_options, seed
+    weights, region, method, refine, margin, solver, solver_options
         As for :func:`controlext.coupled_observer`.
-    refine_options, name
+    seed, refine_options, executor, options, name
         As for :func:`controlext.coupled_observer`.
+
+    The same synthesis pipeline as every other observer: convex stage,
+    refinement where it is conservative (a region or more than one copy,
+    with the one-copy GI design among the starts), verification.
 
     Returns
     -------
@@ -277,43 +287,15 @@ def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
     >>> bool(np.allclose(ct.dcgain(obs), 0, atol=1e-8))
     True
     """
-    from .synthesis import _check_margin, resolve_region, synthesise
-    start = time.perf_counter()
-    A, B, C, D, dt, Bw = _check_gi_plant(plant, Bw)
-    if isinstance(copies, bool) or not isinstance(copies, (int, np.integer)) \
-            or copies < 1:
-        raise ParameterError(f"copies must be an integer >= 1; found "
-                             f"{copies!r}")
-    problem, U, Pi = _gi_problem(A, C, Bw, augmented, copies, weights, dt)
-    region = resolve_region(decay, region, dt)
-    margin = _check_margin(margin)
-    if augmented:
-        check_detectable(problem.A, problem.C, dt, what=(
-            "augmented plant (A, C) with the disturbance states "
-            "[[A, Bw U], [0, 0]], [C, U]"))
-    else:
-        check_detectable(A, C, dt)
-    if region is not None:
-        check_region_reachable(problem.A, problem.C, region, dt)
-    G, report = synthesise(problem, region,
-                           refine=refine and (region is not None or
-                                              copies > 1),
-                           margin=margin, solver=solver,
-                           solver_options=solver_options, seed=seed,
-                           refine_options=refine_options)
-    report.time = time.perf_counter() - start
-    n, r = A.shape[0], U.shape[1]
-    m = n + r if augmented else n
-    rows = np.arange(copies * m).reshape(copies, m)
-    L = G[rows[:, :n].ravel()]
-    Lw = G[rows[:, n:].ravel()] if augmented else None
-    with warnings.catch_warnings():
-        warnings.simplefilter('ignore', UserWarning)
-        obs = GIObserver(plant, L, Bw, augmented=augmented, Lw=Lw,
-                         weights=problem.weights, name=name, report=report,
-                         copies=copies)
-    if obs.invariant_directions == 0:
-        warnings.warn("range(C) is all of R^p (Π = 0): the GI observer "
-                      "equals the classic observer", UserWarning,
-                      stacklevel=2)
+    problem = gi_problem(plant, Bw, augmented, check_copies(copies),
+                         weights)
+    options = SynthesisOptions.from_keywords(
+        options, margin=margin, method=method, solver=solver,
+        solver_options=solver_options, seed=seed, refine=refine,
+        refine_options=refine_options, executor=executor)
+    what = ("augmented plant (A, C) with the disturbance states "
+            "[[A, Bw U], [0, Λ]], [C, U]") if augmented else "plant"
+    obs = design(GIObserver, problem, options, decay=decay, region=region,
+                 name=name, what=what)
+    _warn_if_classic(problem)
     return obs

@@ -18,7 +18,8 @@ True
 """
 
 from .norms import hinfnorm
-from .design import luenberger_observer, hinf_observer, coupled_observer
+from .luenberger import luenberger_observer, hinf_observer
+from .coupled import coupled_observer
 from .gi import gi_observer
 from .simulate import simulate
 

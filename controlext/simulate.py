@@ -83,42 +83,42 @@ def simulate(plant, observers, T, u=0.0, w=0.0, x0=0.0, xhat0=None,
     n, m, p = A.shape[0], B.shape[1], C.shape[0]
     first = observers[0]
     if Bw is None:
-        Bw = getattr(first, 'gi_Bw', None)
-        Bw = first.problem.Bw if Bw is None else Bw
+        Bw = first.problem.plant_Bw
         if Dw is None:
-            Dw = np.eye(p) if hasattr(first, 'gi_Bw') else first.problem.Dw
+            Dw = first.problem.plant_Dw
     Bw = as_matrix(Bw, 'Bw', (n, None))
     q = Bw.shape[1]
     Dw = np.eye(p, q) if Dw is None else as_matrix(Dw, 'Dw', (p, q))
     T = np.asarray(T, dtype=float)
     ests = [o.estimator() for o in observers]
     for est in ests:
-        if est.ninputs != m + p:
+        if est.ninputs != m + p or est.noutputs != n:
             raise ArgumentError("an observer does not match the plant's "
-                                "inputs and outputs")
-    # block system: states [x; xi_1; ...], inputs [u; w]
+                                "inputs, outputs and states")
+    # block system: states [x; xi_1; ...], inputs [u; w]; an estimator's
+    # inputs are [y; u]
     Ablocks, Bu, Bw_rows = [A], [B], [Bw]
     for est in ests:
-        Bu_e, By_e = est.B[:, :m], est.B[:, m:]
+        By_e, Bu_e = est.B[:, :p], est.B[:, p:]
         Ablocks.append(est.A)
         Bu.append(Bu_e + By_e @ D)
         Bw_rows.append(By_e @ Dw)
     Abig = la.block_diag(*Ablocks)
     N = Abig.shape[0]
     off = n
-    for k, est in enumerate(ests):
+    for est in ests:
         ne = est.nstates
-        Abig[off:off + ne, :n] += est.B[:, m:] @ C
+        Abig[off:off + ne, :n] += est.B[:, :p] @ C
         off += ne
     Bbig = np.hstack([np.vstack(Bu), np.vstack(Bw_rows)])
     rows = [np.hstack([np.eye(n), np.zeros((n, N - n))])]
     labels = [f'x[{i}]' for i in range(n)]
     off = n
     xh_rows = []
-    for k, est in enumerate(ests):
+    for est in ests:
         ne = est.nstates
         Ck = np.zeros((n, N))
-        Ck[:, off:off + ne] = est.C[:n]
+        Ck[:, off:off + ne] = est.C
         xh_rows.append(Ck)
         off += ne
     for k, Ck in enumerate(xh_rows):
@@ -134,13 +134,11 @@ def simulate(plant, observers, T, u=0.0, w=0.0, x0=0.0, xhat0=None,
     X0 = [np.broadcast_to(np.asarray(x0, dtype=float), (n,))]
     xh = np.zeros(n) if xhat0 is None else \
         np.broadcast_to(np.asarray(xhat0, dtype=float), (n,))
-    for obs, est in zip(observers, ests):
-        init = np.zeros(est.nstates)
-        if obs.copies > 1:
-            init[:n * obs.copies] = np.tile(xh, obs.copies)
-        else:
-            init[:n] = xh
-        X0.append(init)
+    for obs in observers:
+        # every copy starts at xhat0, disturbance estimates at 0
+        init = np.zeros((obs.copies, obs.problem.n))
+        init[:, :n] = xh
+        X0.append(init.ravel())
     U = _signal(u, m, T, 'u')
     W = _signal(w, q, T, 'w')
     return ct.forced_response(sys, T, np.vstack([U, W]),

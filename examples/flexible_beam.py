@@ -6,7 +6,7 @@ two displacement sensors at 30 % and 70 % of the span, noisy.  The
 estimation error must decay at 0.5 1/s, faster than the first five modes
 do on their own (their real parts are -0.02 k²); the other fifteen are
 fast enough already.  ``method='auto'`` solves the LMI on the slow modes
-only (:mod:`controlext.modal`), then refines the full gain.  The figure
+only (:mod:`controlext.synthesis.modal`), then refines the full gain.  The figure
 compares the largest singular value of the noise-to-error systems.
 Run:  python examples/flexible_beam.py
 """

@@ -7,8 +7,8 @@ import scipy.linalg as la
 import control as ct
 
 import controlext as cx
-from controlext.problem import ObserverProblem
-from controlext.lmi import solve_observer_lmi
+from controlext.synthesis import ObserverProblem
+from controlext.synthesis.lmi import solve_observer_lmi
 from conftest import unstable_plant
 
 
@@ -155,20 +155,20 @@ def test_shifted_riccati_design_is_certified(seed):
 
 
 def test_auto_takes_the_riccati_route_above_the_size_limit(monkeypatch):
-    import controlext.design as design
     plant, Bw = unstable_plant(seed=0)
     small = cx.hinf_observer(plant, decay=1.0, refine=False)
     assert small.report.method == 'lmi'
-    monkeypatch.setattr(design, 'LMI_MAX_STATES', 2)
-    big = cx.hinf_observer(plant, decay=1.0, refine=False)
+    limit = cx.SynthesisOptions(lmi_max_states=2)
+    big = cx.hinf_observer(plant, decay=1.0, refine=False, options=limit)
     assert big.report.method == 'shifted riccati'
     assert 'lmi' not in big.report.stats
-    refined = cx.hinf_observer(plant, decay=1.0)
+    refined = cx.hinf_observer(plant, decay=1.0, options=limit)
     assert refined.report.method == 'shifted riccati+refine'
     assert refined.hinf <= big.hinf * (1 + 1e-9)
     assert max(ct.poles(refined).real) <= -1.0 + 1e-6
-    coupled = cx.coupled_observer(plant, decay=1.0, refine=False)
-    assert coupled.report.method == 'shifted riccati'
+    coupled = cx.coupled_observer(plant, decay=1.0, refine=False,
+                                  options=limit)
+    assert coupled.report.method == 'embedded shifted riccati'
     np.testing.assert_allclose(coupled.K1, big.L)
 
 

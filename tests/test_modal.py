@@ -6,9 +6,9 @@ import pytest
 import control as ct
 
 import controlext as cx
-from controlext.modal import modal_applies, modal_problem, modal_split
+from controlext.synthesis.modal import modal_applies, modal_problem, modal_split
 from controlext.norms import hinfnorm_matrices
-from controlext.problem import ObserverProblem
+from controlext.synthesis import ObserverProblem
 
 
 def plant(seed=0, n=8, p=2):
@@ -61,7 +61,7 @@ def test_auto_takes_the_modal_stage_and_certifies_it():
     assert max(ct.poles(obs).real) <= -1.0 + 1e-6
     assert cx.hinfnorm(obs)[0] <= obs.report.gamma_bound * (1 + 1e-5)
     pair = cx.coupled_observer(P, decay=1.0, refine=False)
-    assert pair.report.method == 'modal lmi'
+    assert pair.report.method == 'embedded modal lmi'
     np.testing.assert_allclose(pair.K1, obs.L)
     refined = cx.hinf_observer(P, decay=1.0)
     assert refined.report.method == 'modal lmi+refine'

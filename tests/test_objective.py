@@ -7,9 +7,9 @@ import pytest
 import control as ct
 
 import controlext as cx
-from controlext.objective import Objective
-from controlext.paper import MU_SECOND_ORDER
-from controlext.problem import ObserverProblem
+from controlext.synthesis.objective import Objective
+from controlext.paper.tables import MU_SECOND_ORDER
+from controlext.synthesis import ObserverProblem
 
 
 @pytest.fixture

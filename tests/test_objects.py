@@ -63,7 +63,7 @@ def test_algebra_returns_plain_statespace(obs):
 
 def test_estimator_signals(obs):
     est = obs.estimator()
-    assert est.input_labels == ['u[0]', 'y[0]']
+    assert est.input_labels == ['y[0]', 'u[0]']     # as ct.create_estimator_iosystem
     assert est.output_labels == ['xhat[0]', 'xhat[1]']
     assert est.name == 'obs_estimator'
 
@@ -77,7 +77,7 @@ def test_estimator_converges_to_plant_state(second_order_plant):
     design_plant = ct.ss(A, B, C, 0, inputs='u', outputs='y')
     obs = cx.hinf_observer(design_plant, decay=1.0)
     est = obs.estimator(name='est')
-    assert est.input_labels == ['u', 'y']
+    assert est.input_labels == ['y', 'u']
     closed = ct.interconnect(
         [plant, est], inplist=[['plant.u', 'est.u']],
         outlist=['x[0]', 'x[1]', 'xhat[0]', 'xhat[1]'],

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import controlext as cx
-import controlext.synthesis as synthesis
-import controlext.refine as refine
+import controlext.synthesis.pipeline as pipeline
+import controlext.synthesis.refine as refine
 from controlext.exceptions import VerificationError
-from controlext.problem import ObserverProblem
+from controlext.synthesis import ObserverProblem, RefineOptions
 
 
 def test_failed_refinement_keeps_the_convex_design(monkeypatch,
@@ -19,7 +19,7 @@ def test_failed_refinement_keeps_the_convex_design(monkeypatch,
     def fail(*args, **kwargs):
         raise VerificationError("no gain with the error poles in the region")
 
-    monkeypatch.setattr(synthesis, 'refine_gain', fail)
+    monkeypatch.setattr(pipeline, 'refine_gain', fail)
     obs = cx.hinf_observer(second_order_plant, decay=1.0)
     assert obs.report.stage == 'lmi'
     assert 'no gain' in obs.report.stats['refine']['failed']
@@ -39,7 +39,7 @@ def test_best_point_inside_the_region_when_the_final_push_fails(monkeypatch):
     monkeypatch.setattr(refine, '_make_feasible', no_final_push)
     start = np.array([[2.0], [5.0]])        # the paper's K0: decay 1
     res = refine.refine_gain(prob, region, [('start', start)],
-                             random_starts=0, rho=1e-3)
+                             options=dict(random_starts=0, rho=1e-3))
     poles = np.linalg.eigvals(prob.A - res.G @ prob.C)
     assert np.max(poles.real) <= -1.0 + 1e-12
     # Theorem 3.12's optimum at σ = 1 is 0.2851 (Section IV-B); the start
@@ -80,21 +80,22 @@ def test_large_gains_get_shorter_polishing(monkeypatch):
     rng = np.random.default_rng(0)
     big = _stable_pair(rng, 33)                       # 66 states, 66 x 4 entries
     G = np.zeros(big.gain_shape)
-    refine.refine_gain(big, None, [('zero', G)], random_starts=0)
+    refine.refine_gain(big, None, [('zero', G)],
+                       options=dict(random_starts=0))
     assert seen[-1] == (max(100, round(600 * (16 / 264) ** 0.5)), 1)
-    refine.refine_gain(big, None, [('zero', G)], random_starts=0,
-                       maxiter=7, restarts=2)
+    refine.refine_gain(big, None, [('zero', G)], options=dict(
+        random_starts=0, maxiter=7, restarts=2))
     assert seen[-1] == (7, 2)
     small = _stable_pair(rng, 20)           # 40 states, 160 entries
     refine.refine_gain(small, None, [('zero', np.zeros(small.gain_shape))],
-                       random_starts=0)
+                       options=dict(random_starts=0))
     assert seen[-1] == (600, 1)
     # up to 64 entries: a fresh Hessian estimate every max(150, 10 entries)
     # steps, within 2400 steps in all
     for n, every in ((1, 150), (4, 320), (8, 600)):  # 8, 32, 64 entries
         tiny = _stable_pair(rng, n)
         refine.refine_gain(tiny, None, [('zero', np.zeros(tiny.gain_shape))],
-                           random_starts=0)
+                           options=dict(random_starts=0))
         assert seen[-1] == (every, 2400 // every - 1)
 
 
@@ -106,8 +107,8 @@ def test_weak_penalty_is_raised_until_exact(rho):
     0.2851 at σ = 1 (Section IV-B) from the paper's K0 (γ 0.4859)."""
     prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]])
     res = refine.refine_gain(prob, cx.HalfPlane(1.0),
-                             [('K0', [[2.0], [5.0]])], random_starts=0,
-                             rho=rho)
+                             [('K0', [[2.0], [5.0]])],
+                             options=dict(random_starts=0, rho=rho))
     poles = np.linalg.eigvals(prob.A - res.G @ prob.C)
     assert np.max(poles.real) <= -1.0 + 1e-6
     assert res.gamma == pytest.approx(0.2851, rel=1e-3)
@@ -130,20 +131,20 @@ def test_costly_problems_screen_twice_and_keep_given_starts(monkeypatch):
     G = np.zeros(costly.gain_shape)
     far = G + 5 * rng.normal(size=G.shape) / np.sqrt(G.size)
     res = refine.refine_gain(costly, None, [('zero', G), ('far', far)],
-                             random_starts=0)
-    assert rounds == [refine.SECOND_ROUND] * 2
+                             options=dict(random_starts=0))
+    assert rounds == [RefineOptions().second_round] * 2
     assert sorted(label for label, _ in res.starts) == ['far', 'zero']
     rounds.clear()
     small = _stable_pair(rng, 10)           # 20 states
     refine.refine_gain(small, None, [('given', np.zeros(small.gain_shape))],
-                       random_starts=3)
+                       options=dict(random_starts=3))
     assert rounds == []
 
 
 def test_polishing_race_stops_only_stalled_runs_far_behind(monkeypatch):
     """After each round of segments a run stops when it is more than
-    RACE_KEEP behind the leader *and* its last segment gained less than
-    RACE_PROGRESS; a run far behind that still gains fast goes on (with
+    race_keep behind the leader *and* its last segment gained less than
+    race_progress; a run far behind that still gains fast goes on (with
     three copies such runs won), one close to the leader goes on too."""
     scripts = {                 # segment end values of four scripted runs
         'leader': [1.00, 0.99, 0.989],
@@ -154,7 +155,7 @@ def test_polishing_race_stops_only_stalled_runs_far_behind(monkeypatch):
     segments = []
 
     def step(args):
-        obj, run, maxiter, restarts = args
+        obj, run, maxiter, restarts, escalations = args
         run = dict(run, points=1)
         if run['stop']:
             run['result'] = (run['value'], run['x'])
@@ -171,7 +172,8 @@ def test_polishing_race_stops_only_stalled_runs_far_behind(monkeypatch):
 
     monkeypatch.setattr(refine, '_polish_step', step)
     results, points = refine._polish(None, None, [(name, (np.inf, None))
-                                                  for name in scripts], 0, 0)
+                                                  for name in scripts], 0, 0,
+                                   RefineOptions())
     ran = {name: segments.count(name) for name in scripts}
     # 'stalled far behind' is 1.29/0.99 = 1.30x behind after round 2 with
     # a gain of 0.8 %: it stops there; 'gaining fast' (36 % in round 3)

@@ -41,7 +41,7 @@ def test_simulate_gives_state_estimates_errors(scalar_plant):
 
 
 def test_simulate_gi_with_its_noise_model():
-    from controlext.figures import GI_BW, gi_plant
+    from controlext.paper.figures import GI_BW, gi_plant
     plant = gi_plant()
     gi = cx.gi_observer(plant, GI_BW, decay=1.0, augmented=True)
     T = np.linspace(0, 30, 3001)
@@ -137,7 +137,7 @@ def test_matlab_names_change_no_global_setting():
 @pytest.mark.parametrize('name', ['figure_2', 'figure_3', 'figure_4',
                                   'figure_5', 'figure_gi'])
 def test_cheap_figures_draw(name):
-    from controlext import figures
+    from controlext.paper import figures
     fig = getattr(figures, name)()
     assert fig.axes and all(a.get_xlabel() for a in fig.axes
                             if a.get_label() != '<colorbar>')

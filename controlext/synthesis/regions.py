@@ -8,7 +8,7 @@ its eigenvalues in the region if and only if there is ``X = Xᵀ > 0`` with
     L ⊗ X + M ⊗ Zᵀ + Mᵀ ⊗ Z < 0,   Z = X Acl,
 
 which is linear in ``(X, Y)`` for ``Z = X Ae − Y Ce``; the engine in
-:mod:`controlext.lmi` builds that constraint from :meth:`Region.blocks`.
+:mod:`controlext.synthesis.lmi` builds that constraint from :meth:`Region.blocks`.
 Regions also give the scalar *margins* that the refinement stage and the
 verification use: ``g(λ) ≤ 0`` for every eigenvalue ``λ`` in the region.
 
@@ -26,9 +26,10 @@ from functools import partial
 
 import numpy as np
 
-from .exceptions import ParameterError
+from .._checks import check_number, sample_step
+from ..exceptions import ArgumentError, ParameterError, RegionError
 
-__all__ = ['Region', 'HalfPlane', 'Disk', 'Sector']
+__all__ = ['Region', 'HalfPlane', 'Disk', 'Sector', 'region_for']
 
 _TOL = 1e-9
 
@@ -141,7 +142,7 @@ class HalfPlane(Region):
     domain = 'continuous'
 
     def __init__(self, decay):
-        decay = _number(decay, 'decay')
+        decay = check_number(decay, 'decay')
         if decay < 0:
             raise ParameterError(f"decay must be a finite number >= 0; "
                                  f"found {decay}")
@@ -167,7 +168,7 @@ class Disk(Region):
     """
 
     def __init__(self, radius, center=0.0, domain='any'):
-        radius, center = _number(radius, 'radius'), _number(center, 'center')
+        radius, center = check_number(radius, 'radius'), check_number(center, 'center')
         if radius <= 0:
             raise ParameterError(f"radius must be > 0; found {radius}")
         if domain not in ('any', 'continuous', 'discrete'):
@@ -197,7 +198,7 @@ class Sector(Region):
     domain = 'continuous'
 
     def __init__(self, damping):
-        damping = _number(damping, 'damping')
+        damping = check_number(damping, 'damping')
         if not 0 <= damping < 1:
             raise ParameterError(f"damping must lie in [0, 1); found "
                                  f"{damping}")
@@ -253,12 +254,33 @@ def _sector_boundary(th, extent, num):
     return [r * -np.exp(1j * th), r * -np.exp(-1j * th)]
 
 
-def _number(value, name):
-    try:
-        value = float(value)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"{name} must be a real number; found "
-                             f"{type(value).__name__}") from exc
-    if not np.isfinite(value):
-        raise ParameterError(f"{name} must be finite; found {value}")
-    return value
+def region_for(decay=None, region=None, dt=0):
+    """The pole region asked for by ``decay=`` or ``region=``.
+
+    A decay ``σ`` is the half-plane ``Re s <= -σ`` in continuous time and
+    the disk ``|z| <= exp(-σ dt)`` in discrete time.
+
+    Examples
+    --------
+    >>> from controlext.synthesis.regions import region_for
+    >>> region_for(decay=1.0), region_for(decay=1.0, dt=0.5)
+    (HalfPlane(decay=1), Disk(radius=0.606531, center=0))
+    """
+    decay = check_number(decay, 'decay', low=0, optional=True)
+    if decay is not None and region is not None:
+        raise ArgumentError("give either decay= or region=, not both")
+    if region is not None and not isinstance(region, Region):
+        raise ArgumentError(f"region must be a controlext Region; found "
+                            f"{type(region).__name__}")
+    if decay is not None:
+        if dt:
+            region = Disk(float(np.exp(-decay * sample_step(dt))),
+                          domain='discrete')
+        else:
+            region = HalfPlane(decay)
+    if region is not None:
+        want = 'discrete' if dt else 'continuous'
+        if region.domain not in ('any', want):
+            raise RegionError(f"{region} is a {region.domain}-time region "
+                              f"but the plant is {want}-time")
+    return region

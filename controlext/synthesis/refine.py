@@ -1,7 +1,7 @@
 """Refinement: local nonsmooth optimisation of the gains on the true
 objective.
 
-The convex problem of :mod:`controlext.lmi` uses one Lyapunov matrix for
+The convex problem of :mod:`controlext.synthesis.lmi` uses one Lyapunov matrix for
 the H∞ bound and the pole region, which is conservative (for the coupled
 pair it never beats the Luenberger observer).  Refinement minimises the
 *true* H∞ norm of the error system over the gain ``G``, subject to the
@@ -13,7 +13,7 @@ the H∞ norm, on the exact penalty
 
 where ``g(G)`` is the largest region margin over the eigenvalues of
 ``Ae − G Ce`` (``<= 0`` inside the region), evaluated with its gradient by
-:class:`controlext.objective.Objective`.  Many starts are screened with a
+:class:`controlext.synthesis.objective.Objective`.  Many starts are screened with a
 few iterations; the best are polished side by side, a run that falls far
 behind and stalls stopping early; a final phase pushes the result
 strictly inside the region.  The weight ρ starts a few times the
@@ -25,8 +25,8 @@ Examples
 --------
 >>> import numpy as np
 >>> import controlext as cx
->>> from controlext.problem import ObserverProblem
->>> from controlext.refine import refine_gain
+>>> from controlext.synthesis import ObserverProblem
+>>> from controlext.synthesis.refine import refine_gain
 >>> prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]])
 >>> res = refine_gain(prob, cx.HalfPlane(1.0), [('start', [[2.0], [5.0]])])
 >>> bool(res.gamma < 0.2852)
@@ -41,8 +41,9 @@ import time
 import numpy as np
 
 from .bfgs import bfgs
-from .exceptions import VerificationError
+from ..exceptions import VerificationError
 from .objective import Objective
+from .options import RefineOptions
 from .verify import REGION_TOL
 
 try:
@@ -51,46 +52,6 @@ except ImportError:         # pragma: no cover - a required dependency
     ThreadpoolController = None
 
 __all__ = ['RefineResult', 'refine_gain']
-
-#: a problem with more than 64 gain entries on more error states than
-#: this is costly: its polishing candidates get a second round of
-#: ``SECOND_ROUND`` screening steps, and only those within
-#: ``SECOND_ROUND_KEEP`` of the best after it are polished
-COSTLY_STATES = 32
-SECOND_ROUND = 60
-SECOND_ROUND_KEEP = 1.05
-#: polishing of gains of up to 64 entries restarts BFGS with a fresh
-#: Hessian estimate every ``max(RESTART_EVERY, 10 entries)`` steps (at
-#: most 600), up to 2400 steps in all, while it improves.  A run's progress
-#: comes in bursts after restarts (a three-copy run went 0.030 -> 0.020 ->
-#: 0.0131 -> 0.0129 in restarts after 600 steps each).  Against 600 steps
-#: x 4: second-order pair (8 entries) 19 % fewer points over 16 seeds, γ
-#: at most 0.05888 against 0.05894; three copies (18 entries) 11 % fewer
-#: over 8 seeds, γ at most 0.0138 against 0.0170; random plants n = 5 and
-#: 10 (coupled design) 30 % faster with γ 3.261 / 2.648 against 3.262 /
-#: 2.663.  A fixed 150 steps made 40-entry Luenberger stages 25 % slower,
-#: 100 steps let 2 of 4 three-copy seeds end at 0.0196
-RESTART_EVERY = 150
-#: polishing runs advance side by side, one such segment at a time; after
-#: each, a run more than RACE_KEEP behind the leader whose last segment
-#: gained less than RACE_PROGRESS stops.  Replayed on the logged runs of
-#: 16 second-order pairs and 8 three-copy designs: 12 % and 24 % fewer
-#: points with the same γ for every one; dropping runs on the gap alone
-#: lost up to 52 % of γ with three copies, where winners were 1.5x behind
-#: after several segments but still gaining fast
-RACE_KEEP = 1.05
-RACE_PROGRESS = 0.03
-#: exact-penalty weight per unit of ``γ₀ / rate``: the multiplier of the
-#: region constraint is about ``dγ/dσ ~ γ/σ``, and a weight a few times
-#: that keeps the penalty's kink mild (``10 (1 + γ₀)`` measured up to 2x
-#: more evaluations and worse optima for three coupled copies; a weight
-#: of 1 let polishing runs of the second-order pair fail, γ above 0.0594
-#: for 2 of 8 seeds, against none of 8 with 3)
-RHO = 3.0
-#: how many times a polishing run may raise that weight tenfold when it
-#: ends outside the region (the penalty is exact only above the multiplier)
-ESCALATIONS = 5
-
 
 @dataclass
 class RefineResult:
@@ -230,12 +191,12 @@ def _polish_step(args):
     improves, up to ``1 + restarts`` segments of ``maxiter`` steps; a run
     that then ends outside the region raises the penalty weight tenfold
     (the penalty is exact only above the constraint's multiplier) and
-    goes on, up to ``ESCALATIONS`` times.  ``run`` (a dict) carries the
+    goes on, up to ``escalations`` times.  ``run`` (a dict) carries the
     point, the weight and the best point inside met so far from one call
     to the next; a run that is over (or told to ``stop``) is pushed
     strictly inside the region and gets its ``result``.
     """
-    obj, run, maxiter, restarts = args
+    obj, run, maxiter, restarts, escalations = args
     run = dict(run)
     before = obj.count
     base = obj.rho
@@ -250,7 +211,7 @@ def _polish_step(args):
             x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=1e-9)
             run.update(x=x, value=fnew, fx=fnew, restart=run['restart'] + 1)
             if not fnew < fx - 1e-7 * abs(fx) or run['restart'] > restarts:
-                if obj.region is None or run['escalation'] >= ESCALATIONS \
+                if obj.region is None or run['escalation'] >= escalations \
                         or obj.margin(x.reshape(obj.shape))[0] <= 0:
                     run['stop'] = True
                 else:
@@ -266,14 +227,14 @@ def _polish_step(args):
     return run
 
 
-def _polish(executor, obj, screened, maxiter, restarts):
+def _polish(executor, obj, screened, maxiter, restarts, opts):
     """Polish the screened starts ``(x, best)``; ``[(γ, G)]`` (``G`` None
     where the run failed) and the number of points evaluated.
 
     The runs advance in rounds of one segment each (in parallel on
-    ``executor``); after a round, a run more than ``RACE_KEEP`` behind the
-    leader whose last segment gained less than ``RACE_PROGRESS`` stops
-    there.  The result does not depend on the executor.
+    ``executor``); after a round, a run more than ``opts.race_keep`` behind
+    the leader whose last segment gained less than ``opts.race_progress``
+    stops there.  The result does not depend on the executor.
     """
     runs = [dict(x=x, best=best, rho=None, escalation=0, restart=0,
                  fx=None, value=np.inf, stop=False,
@@ -284,7 +245,8 @@ def _polish(executor, obj, screened, maxiter, restarts):
         if not going:
             break
         for k, run in zip(going, _map(executor, _polish_step, [
-                (obj, runs[k], maxiter, restarts) for k in going])):
+                (obj, runs[k], maxiter, restarts, opts.escalations)
+                for k in going])):
             before = runs[k]['value']
             run['gain'] = (before - run['value']) / abs(run['value']) \
                 if np.isfinite(before) else np.inf
@@ -292,8 +254,9 @@ def _polish(executor, obj, screened, maxiter, restarts):
             points += run['points']
         lead = min(run['value'] for run in runs)
         for run in runs:
-            if run['result'] is None and run['gain'] < RACE_PROGRESS and \
-                    run['value'] > RACE_KEEP * lead:
+            if run['result'] is None and \
+                    run['gain'] < opts.race_progress and \
+                    run['value'] > opts.race_keep * lead:
                 run['stop'] = True
     return [run['result'] for run in runs], points
 
@@ -310,9 +273,8 @@ def _rate_scale(problem, G):
     return max(float(np.min(np.abs(lam))), 1e-6)
 
 
-def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
-                screen_iterations=25, polish=6, maxiter=None, restarts=None,
-                delta=1e-7, rho=None, tikhonov=1e-5, executor=None):
+def refine_gain(problem, region, starts, *, options=None, seed=0,
+                executor=None):
     """Minimise the true H∞ norm over the gain, inside ``region``.
 
     Parameters
@@ -324,72 +286,56 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
     starts : list of (str, array_like)
         Labelled starting gains (for example the LMI solution and the
         Luenberger-equivalent design).
-    random_starts : int, optional
-        Extra starts: seeded random perturbations of the given ones.
-        Default: 32 for up to 16 gain entries (but at most 8 per entry),
-        ``32 (16/entries)^1.5`` (at least 4) for larger gains; ``polish``
-        shrinks likewise (and is at most ``2 + entries``).
+    options : RefineOptions or dict, optional
+        The budget policy (:class:`~controlext.synthesis.RefineOptions`):
+        every start runs ``screen_iterations`` BFGS steps and the
+        ``polish`` best continue in segments of ``maxiter`` steps with up
+        to ``restarts`` fresh-Hessian restarts while they improve.
+        Defaults scale with the gain: up to 64 gain entries ``maxiter =
+        max(restart_every, 10 entries)`` (at most 600) and as many
+        restarts as fit in 2400 steps; more than 64 entries ``maxiter =
+        600`` and one restart, shorter still on more than 64 error
+        states, where only starts within 1.5x of the best screened one
+        are polished.  The random starts are seeded perturbations of the
+        given ones (32 for up to 16 entries, at most 8 per entry, fewer
+        for larger gains).  The objective adds ``tikhonov · γ₀ · ‖G‖² /
+        max(1, ‖G₁‖²)`` (``G₁`` the first given start), which keeps the
+        gain finite where the infimum of the norm needs unbounded gains.
     seed : int, optional
-        Seed of those perturbations (results are reproducible).
-    screen_iterations, polish, maxiter, restarts : int, optional
-        Every start runs ``screen_iterations`` BFGS steps; the ``polish``
-        best continue up to ``maxiter`` steps, and BFGS is restarted (with
-        a fresh Hessian estimate) up to ``restarts`` times while it still
-        improves.  Defaults: up to 64 gain entries ``maxiter =
-        max(150, 10 entries)`` (at most 600) and as many restarts as fit
-        in 2400 steps; more than 64 gain entries ``maxiter = 600``,
-        ``restarts = 1``; for more than 64 gain entries on more
-        than 64 error states ``maxiter = 600 (16/entries)^0.5`` (at least
-        100), and only starts within 1.5x of the best screened one are
-        polished.  On more than 32 error states, gains of more than 64
-        entries get a second round of 60 screening steps, after which
-        only the given starts and the random ones within 5 % of the best
-        are polished.
-    delta : float, optional
-        Margin kept inside the region during the search.
-    rho : float, optional
-        Initial penalty weight (default ``3 γ₀`` divided by the smallest
-        ``|λ|`` of the first start's error poles — ``|ln λ|`` in discrete
-        time); raised tenfold, up to 5 times, by a polishing run
-        that ends outside the region.
-    tikhonov : float, optional
-        Relative weight of ``‖G‖²``: the objective adds
-        ``tikhonov · γ₀ · ‖G‖² / max(1, ‖G₁‖²)``, with ``G₁`` the first
-        given start (the LMI's well-conditioned gain) and ``γ₀`` the best
-        start's norm.  On plants with unstable
-        modes the infimum of the norm is often approached only as the gain
-        grows without bound; this term (which changes γ by about
-        ``tikhonov`` relative) keeps the gain finite.
-
+        Seed of the random starts (results are reproducible).
     executor : concurrent.futures.Executor, optional
         Runs the screening and polishing of the starts in parallel (any
-        executor: a ``ProcessPoolExecutor``, or a Dask/Ray one).  The
-        result does not depend on it.
+        executor: a ``ProcessPoolExecutor``, or a Dask one).  The result
+        does not depend on it: the options travel with every call.
 
     Returns
     -------
     RefineResult
     """
     t0 = time.perf_counter()
+    opts = RefineOptions.coerce(options)
     shape = problem.gain_shape
     nvar = shape[0] * shape[1]
     shrink = min(1.0, 16.0 / nvar)      # 1 for the small problems
+    random_starts = opts.random_starts
     if random_starts is None:
         # and a gain of one or two entries needs fewer than 32 starts
         random_starts = min(max(4, int(round(32 * shrink**1.5))),
                             8 * nvar)
-    polish = min(polish, max(2, int(round(polish * shrink))), 2 + nvar)
+    polish = min(opts.polish, max(2, int(round(opts.polish * shrink))),
+                 2 + nvar)
     # an evaluation costs ~(error states)³ and large gains need more BFGS
     # steps: gains of more than 64 entries on error systems of more than
     # 64 states get shorter polishing runs (a 60-state pair in about a
     # minute; its 60-state Luenberger start keeps the full budget, which
     # measured γ 19.9 against 30.9 with the short one)
     large = shrink < 0.25 and problem.Ae.shape[0] > 64
-    costly = shrink < 0.25 and problem.Ae.shape[0] > COSTLY_STATES
+    costly = shrink < 0.25 and problem.Ae.shape[0] > opts.costly_states
     # BFGS's Hessian estimate goes stale near the kinks of the norm: on
     # small gains a fresh one every few hundred steps makes the runs
-    # shorter for the same budget of steps (see RESTART_EVERY)
-    every = min(600, max(RESTART_EVERY, 10 * nvar))
+    # shorter for the same budget of steps
+    every = min(600, max(opts.restart_every, 10 * nvar))
+    maxiter, restarts = opts.maxiter, opts.restarts
     if maxiter is None:
         maxiter = every if shrink >= 0.25 else 600 if not large \
             else max(100, int(round(600 * np.sqrt(shrink))))
@@ -406,21 +352,23 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
             (0.3 if k < random_starts // 2 else 1.0)
         starts.append((f'{label}+random{k}',
                        base + scale * rng.normal(size=shape)))
-    probe = Objective(problem, region)
+    probe = Objective(problem, region, peaks=opts.peaks)
     g0 = min(probe.norm(G) for _, G in given)
     g0 = g0 if np.isfinite(g0) else 1.0
+    rho = opts.rho
     if rho is None:
-        rho = RHO * g0 / _rate_scale(problem, given[0][1])
+        rho = opts.rho_scale * g0 / _rate_scale(problem, given[0][1])
     G1 = given[0][1]
-    reg = tikhonov * max(g0, 1e-3) / max(1.0, float(np.sum(G1 * G1)))
-    obj = Objective(problem, region, rho, delta, reg)
+    reg = opts.tikhonov * max(g0, 1e-3) / max(1.0, float(np.sum(G1 * G1)))
+    obj = Objective(problem, region, rho, opts.delta, reg, opts.peaks)
 
     # random starts of large gains are often far outside the region: give
     # the feasibility push fewer steps there (each costs an eigen-
     # decomposition; at n = 60 four failed pushes took 13 s with 200)
     push = 20 if large else 200
     runs = list(_map(executor, _screen, [
-        (obj, G, delta, screen_iterations, push) for _, G in starts]))
+        (obj, G, opts.delta, opts.screen_iterations, push)
+        for _, G in starts]))
     screened = sorted(((fx, label, x) for (label, _), (fx, x, count)
                        in zip(starts, runs) if x is not None),
                       key=lambda item: item[0])
@@ -439,7 +387,7 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
         # n = 60 a start 1.4x behind after the first round was polished
         # for 26 s and ended 5 % behind)
         again = list(_map(executor, _advance, [
-            (obj, x, SECOND_ROUND) for _, _, x in batches[0]]))
+            (obj, x, opts.second_round) for _, _, x in batches[0]]))
         evaluations += sum(count for _, _, count in again)
         ahead = sorted(((fx, label, x) for (_, label, _), (fx, x, _)
                         in zip(batches[0], again)), key=lambda item: item[0])
@@ -447,7 +395,7 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
         # behind early and ahead in the end (n = 20 pair: 3.35 -> 2.74)
         labels = {label for label, _ in given}
         batches[0] = [item for item in ahead
-                      if item[0] <= SECOND_ROUND_KEEP * ahead[0][0]
+                      if item[0] <= opts.second_round_keep * ahead[0][0]
                       or item[1] in labels]
     # polish the best screened starts; should every one of them fail the
     # final feasibility push (seen on ill-conditioned plants), go on down
@@ -455,7 +403,7 @@ def refine_gain(problem, region, starts, *, random_starts=None, seed=0,
     results = []
     for batch in batches:
         polished, points = _polish(executor, obj, [x for _, _, x in batch],
-                                   maxiter, restarts)
+                                   maxiter, restarts, opts)
         evaluations += points
         results += [(gamma, label, G) for (_, label, _), (gamma, G)
                     in zip(batch, polished) if G is not None]

@@ -1,6 +1,6 @@
 """The synthesis engine: the generalised observer LMI, solved by cvxpy.
 
-For the problem of :class:`~controlext.problem.ObserverProblem` the
+For the problem of :class:`~controlext.synthesis.problem.ObserverProblem` the
 variables are ``X = Xᵀ > 0``, ``Y = X G`` and ``γ``; with
 ``Z = X Ae − Y Ce`` and ``M = Y Dwe − X Bwe``
 
@@ -34,8 +34,8 @@ records it: the numbers decide, not the status.
 
 Examples
 --------
->>> from controlext.problem import ObserverProblem
->>> from controlext.lmi import solve_observer_lmi
+>>> from controlext.synthesis import ObserverProblem
+>>> from controlext.synthesis.lmi import solve_observer_lmi
 >>> prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]])
 >>> sol = solve_observer_lmi(prob, margin=1.0)
 >>> sol.status
@@ -49,7 +49,7 @@ import warnings
 import numpy as np
 import cvxpy as cp
 
-from .exceptions import SolverError
+from ..exceptions import SolverError
 
 __all__ = ['LMISolution', 'solve_observer_lmi']
 
@@ -177,7 +177,7 @@ def _stage1_is_better(problem, region, X1, Y1, X2, Y2, gamma_opt):
     in the region), its true norm is lower by more than 0.1 % and its
     norm is at most ten times the conditioned gain's (where ``γ*`` is not
     attained it is orders of magnitude larger, and is not kept)."""
-    from .norms import hinfnorm_matrices
+    from ..norms import hinfnorm_matrices
     G1, G2 = _gain(X1, Y1), _gain(X2, Y2)
     if G1 is None or G2 is None or \
             not np.linalg.norm(G1, 2) <= 10 * np.linalg.norm(G2, 2):
@@ -207,7 +207,7 @@ def _gain(Xv, Yv):
 
 def _verified(problem, region, G, gbound):
     """The design report of ``G`` if it verifies at ``gbound``, else None."""
-    from .exceptions import VerificationError
+    from ..exceptions import VerificationError
     from .verify import verify_design
     try:
         return verify_design(problem, G, region, gamma_bound=gbound,
@@ -286,7 +286,7 @@ def decay_certificate(A, alpha, solver=None, solver_options=None):
 
     Examples
     --------
-    >>> from controlext.lmi import decay_certificate
+    >>> from controlext.synthesis.lmi import decay_certificate
     >>> P, kappa = decay_certificate([[-2.0, 0.0], [0.0, -3.0]], 1.0)
     >>> round(kappa, 4)
     1.0

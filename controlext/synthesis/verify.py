@@ -9,8 +9,8 @@ that fails is a :class:`~controlext.exceptions.VerificationError`.
 Examples
 --------
 >>> import controlext as cx
->>> from controlext.problem import ObserverProblem
->>> from controlext.verify import verify_design
+>>> from controlext.synthesis import ObserverProblem
+>>> from controlext.synthesis.verify import verify_design
 >>> prob = ObserverProblem(A=[[-0.5]], C=[[1.0]])
 >>> rep = verify_design(prob, [[2.0]], region=cx.HalfPlane(2.5))
 >>> round(rep.hinf, 4), round(rep.decay, 4)
@@ -22,8 +22,8 @@ from dataclasses import dataclass, field, asdict
 import numpy as np
 import control as ct
 
-from .exceptions import VerificationError
-from .norms import hinfnorm
+from ..exceptions import VerificationError
+from ..norms import hinfnorm
 
 __all__ = ['DesignReport', 'verify_design']
 
@@ -102,13 +102,21 @@ def decay_rate(poles, dt=0):
 
 
 def verify_design(problem, G, region=None, gamma_bound=None, method='given',
-                  check=True, **info):
+                  check=True, convex=None, **info):
     """Compute the report of gain ``G`` on ``problem`` and check it.
 
     Raises :class:`VerificationError` (when ``check``) if the error system
     is unstable, a pole is outside ``region`` or the true H∞ norm exceeds
-    ``gamma_bound`` beyond :data:`BOUND_RTOL`.
+    ``gamma_bound`` beyond :data:`BOUND_RTOL`.  ``convex`` (a
+    :class:`~controlext.synthesis.convex.ConvexResult`) fills in the
+    method, bound, γ*, solver, status and statistics of the convex stage.
     """
+    if convex is not None:
+        gamma_bound = convex.gamma_bound if G is convex.G else gamma_bound
+        method = convex.method if method == 'given' else method
+        info = dict(dict(stage=convex.stage, gamma_opt=convex.gamma_opt,
+                         solver=convex.solver, status=convex.status,
+                         stats=convex.stats), **info)
     sys = ct.ss(*problem.error_system(G), problem.dt)
     poles = np.linalg.eigvals(sys.A) if sys.nstates else np.zeros(0)
     gamma, wpeak = hinfnorm(sys)

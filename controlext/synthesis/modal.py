@@ -27,8 +27,8 @@ Examples
 --------
 >>> import numpy as np
 >>> import controlext as cx
->>> from controlext.problem import ObserverProblem
->>> from controlext.modal import modal_split
+>>> from controlext.synthesis.problem import ObserverProblem
+>>> from controlext.synthesis.modal import modal_split
 >>> A = np.diag([0.5, -0.3, -5.0, -6.0])
 >>> U, k = modal_split(A, cx.HalfPlane(1.0))
 >>> slow = np.linalg.eigvals((U.T @ A @ U)[:k, :k]).real
@@ -43,11 +43,7 @@ from .problem import ObserverProblem
 
 __all__ = ['modal_split', 'modal_applies', 'modal_problem']
 
-#: modes within this (relative) distance of the region count as slow
-GUARD = 0.05
-
-
-def modal_split(A, region, guard=GUARD):
+def modal_split(A, region, guard=0.05):
     """Ordered real Schur basis ``U`` and the number ``k`` of slow modes
     (outside ``region`` or within ``guard · max(1, |Re λ|)`` of its
     boundary; the real part, so that lightly damped high-frequency modes
@@ -63,7 +59,7 @@ def modal_split(A, region, guard=GUARD):
     return U, int(k)
 
 
-def modal_applies(prob, region, max_states):
+def modal_applies(prob, region, max_states, guard=0.05):
     """``(U, k)`` when the modal stage applies to ``prob``: a region, fewer
     than ``n`` but at least one slow mode, at most ``max_states`` of them,
     and noise that does not reach the fast Schur coordinates; else None.
@@ -71,8 +67,8 @@ def modal_applies(prob, region, max_states):
     Examples
     --------
     >>> import controlext as cx
-    >>> from controlext.problem import ObserverProblem
-    >>> from controlext.modal import modal_applies
+    >>> from controlext.synthesis.problem import ObserverProblem
+    >>> from controlext.synthesis.modal import modal_applies
     >>> prob = ObserverProblem(A=[[0.5, 0.0], [0.0, -5.0]], C=[[1.0, 1.0]])
     >>> modal_applies(prob, cx.HalfPlane(1.0), 40)[1]
     1
@@ -81,7 +77,7 @@ def modal_applies(prob, region, max_states):
     """
     if region is None or prob.copies != 1:
         return None
-    U, k = modal_split(prob.A, region)
+    U, k = modal_split(prob.A, region, guard)
     if not 0 < k <= max_states or k == prob.n:
         return None
     leak = np.linalg.norm(U[:, k:].T @ prob.Bw)
@@ -97,8 +93,8 @@ def modal_problem(prob, U, k):
     Examples
     --------
     >>> import controlext as cx
-    >>> from controlext.problem import ObserverProblem
-    >>> from controlext.modal import modal_applies, modal_problem
+    >>> from controlext.synthesis.problem import ObserverProblem
+    >>> from controlext.synthesis.modal import modal_applies, modal_problem
     >>> prob = ObserverProblem(A=[[0.5, 0.0], [0.0, -5.0]], C=[[1.0, 1.0]])
     >>> U, k = modal_applies(prob, cx.HalfPlane(1.0), 40)
     >>> sub = modal_problem(prob, U, k)

@@ -59,7 +59,7 @@ def _close(value, published, digits):
 
 def luenberger_rows():
     """Rows for the Luenberger observers of Section IV."""
-    from .observers import LuenbergerObserver
+    from ..luenberger import LuenbergerObserver
     rows = []
     obs = LuenbergerObserver(scalar_plant(), [[2.0]])
     pole = ct.poles(obs)[0].real
@@ -99,9 +99,9 @@ MU_SECOND_ORDER = np.array([[-0.2790, 0.2160, 0.1400, -0.1149],
 def coupled_rows(synthesise=True):
     """Rows for the coupled observers of Section IV (and, with
     ``synthesise``, the designs controlext's own synthesis reaches)."""
-    from .analysis import iss_estimate, log_norm
-    from .design import coupled_observer, hinf_observer
-    from .observers import CoupledObserver
+    from ..analysis import iss_estimate, log_norm
+    from ..coupled import CoupledObserver, coupled_observer
+    from ..luenberger import hinf_observer
     plant = scalar_plant()
     pair = CoupledObserver.from_pair(plant, *PAIR_33)
     eig = ct.poles(pair)

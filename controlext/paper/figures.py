@@ -8,7 +8,7 @@ Examples
 --------
 >>> import matplotlib
 >>> matplotlib.use('Agg')
->>> from controlext.figures import figure_5
+>>> from controlext.paper.figures import figure_5
 >>> fig = figure_5()
 >>> len(fig.axes)
 2
@@ -20,16 +20,16 @@ import sys
 import numpy as np
 import control as ct
 
-from .analysis import crossing_time, tradeoff_curve
-from .design import coupled_observer, luenberger_observer
-from .gi import gi_observer
-from .maps import design_map
-from .observers import CoupledObserver, LuenbergerObserver
-from .paper import (BIAS, PAIR_33, PAIR_PENBMI, scalar_plant,
+from ..analysis import crossing_time, tradeoff_curve
+from ..coupled import CoupledObserver, coupled_observer
+from ..gi import gi_observer
+from ..luenberger import LuenbergerObserver, luenberger_observer
+from ..maps import design_map
+from .tables import (BIAS, PAIR_33, PAIR_PENBMI, scalar_plant,
                     second_order_plant)
-from .plot import (design_map_plot, error_plot, estimate_plot,
+from ..plot import (design_map_plot, error_plot, estimate_plot,
                    pole_region_plot, tradeoff_plot)
-from .simulate import simulate
+from ..simulate import simulate
 
 __all__ = ['figure_2', 'figure_3', 'figure_4', 'figure_5',
            'figure_tradeoff', 'figure_gi', 'figure_poles', 'write_all']

@@ -1,6 +1,6 @@
 """The objective of refinement: the true H∞ norm under a pole region.
 
-For a gain ``G`` of an :class:`~controlext.problem.ObserverProblem`,
+For a gain ``G`` of an :class:`~controlext.synthesis.problem.ObserverProblem`,
 :class:`Objective` evaluates the exact penalty
 
     f(G) = ‖T_G‖∞ + τ ‖G‖² + ρ · max(0, g(G) + δ),
@@ -23,8 +23,8 @@ Examples
 --------
 >>> import numpy as np
 >>> import controlext as cx
->>> from controlext.problem import ObserverProblem
->>> from controlext.objective import Objective
+>>> from controlext.synthesis import ObserverProblem
+>>> from controlext.synthesis.objective import Objective
 >>> prob = ObserverProblem(A=[[-0.5]], C=[[1.0]])
 >>> f = Objective(prob, cx.HalfPlane(2.5), rho=10.0)
 >>> value, grad = f(np.array([2.0]))      # the paper's k0 = 2: γ0 = 0.8
@@ -36,12 +36,10 @@ import math
 
 import numpy as np
 
-from .norms import hinfnorm_matrices
+from ..norms import hinfnorm_matrices
 
 __all__ = ['Objective']
 
-#: how many recent peak frequencies the line-search bound looks at
-PEAKS = 4
 _ONE = np.ones(1)
 
 
@@ -60,6 +58,8 @@ class Objective:
         Margin kept inside the region: the penalty starts at ``g = −δ``.
     tikhonov : float, optional
         Weight ``τ`` of ``‖G‖²``.
+    peaks : int, optional
+        How many recent peak frequencies the line-search bound looks at.
 
     Calling the objective with a flat gain ``x`` returns ``(f, ∇f)``
     (``(f, None)`` with ``grad=False``); outside the stability region
@@ -73,8 +73,10 @@ class Objective:
     smallest norm met inside the region and its gain.
     """
 
-    def __init__(self, problem, region, rho=0.0, delta=0.0, tikhonov=0.0):
+    def __init__(self, problem, region, rho=0.0, delta=0.0, tikhonov=0.0,
+                 peaks=4):
         self.prob, self.region = problem, region
+        self.peaks = peaks
         self.shape = problem.gain_shape
         self.rho, self.delta, self.tikhonov = rho, delta, tikhonov
         self.dt = problem.dt
@@ -128,8 +130,13 @@ class Objective:
         M = z * self.eye - Acl
         RB = np.linalg.solve(M, Bcl)
         T = self.Ccl @ RB
+        size = np.linalg.norm(T)
+        if size == 0:
+            # T ≡ 0 at the peak: the norm is 0, its least value, and 0 is
+            # a subgradient there
+            return np.zeros(self.shape)
         if T.shape[1] == 1:                 # one noise input: no SVD
-            u, v = T[:, 0] / np.linalg.norm(T), _ONE
+            u, v = T[:, 0] / size, _ONE
         else:
             U, _, Vh = np.linalg.svd(T)
             u, v = U[:, 0], Vh[0].conj()
@@ -196,9 +203,9 @@ class Objective:
             gamma, w = self._hinf(Acl, Bcl, lam)
             self._last = (key, G.copy(), Acl, Bcl, lam, V, m, crit, gamma,
                           w, sq)
-            if math.isfinite(w) and all(abs(w - p) > 1e-3 * (abs(w) + 1e-9)
+            if math.isfinite(w) and self.peaks and all(abs(w - p) > 1e-3 * (abs(w) + 1e-9)
                                         for p in self._peaks):
-                self._peaks = [w] + self._peaks[:PEAKS - 1]
+                self._peaks = [w] + self._peaks[:self.peaks - 1]
             if math.isfinite(gamma) and m <= 0 and gamma < self.best[0]:
                 self.best = (gamma, G.copy())
         if not math.isfinite(gamma):

@@ -15,7 +15,7 @@ Hamiltonian; it costs milliseconds.
 
 Examples
 --------
->>> from controlext.riccati import hinf_filter_level
+>>> from controlext.synthesis.riccati import hinf_filter_level
 >>> round(hinf_filter_level([[1.0]], [[1.0]], [[0.0]], [[1.0]], [[1.0]]), 4)
 1.0
 """
@@ -23,7 +23,7 @@ Examples
 import numpy as np
 import scipy.linalg as la
 
-from .exceptions import ParameterError
+from ..exceptions import ParameterError
 
 __all__ = ['hinf_filter_level', 'hinf_filter_gain']
 
@@ -73,7 +73,8 @@ def _feasible(data, gamma):
 
 def hinf_filter_level(A, C, Bw, Dw, Cz, rtol=1e-6):
     """Optimal H∞ level ``γ*`` of the observer (bisection on the Riccati
-    equation)."""
+    equation); 0 when the noise can be cancelled exactly (a level of
+    ``1e-12`` relative to the data is still reached)."""
     data = _data(A, C, Bw, Dw, Cz)
     hi = 1.0
     while _feasible(data, hi) is None:
@@ -81,11 +82,14 @@ def hinf_filter_level(A, C, Bw, Dw, Cz, rtol=1e-6):
         if hi > 1e12:
             raise ParameterError("no finite H∞ level found: is the plant "
                                  "detectable?")
+    floor = 1e-12 * max(1.0, *(np.linalg.norm(M, 2) for M in (Bw, Dw, Cz)))
     lo = 0.0
     while True:
         trial = hi / 4
-        if trial < 1e-12 or _feasible(data, trial) is None:
-            lo = trial if trial >= 1e-12 else 0.0
+        if trial < floor:
+            return 0.0              # γ* = 0 to the resolution of the data
+        if _feasible(data, trial) is None:
+            lo = trial
             break
         hi = trial
     while hi - lo > rtol * hi:

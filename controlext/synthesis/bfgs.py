@@ -6,14 +6,14 @@ inexact line search that only asks for sufficient decrease and a weak
 curvature condition converges to Clarke-stationary points in practice
 (Lewis & Overton, *Nonsmooth optimization via quasi-Newton methods*,
 Math. Program. 141, 2013); it is the engine of HIFOO and of
-:mod:`controlext.refine`.
+:mod:`controlext.synthesis.refine`.
 
 Examples
 --------
 A kink at ``x0 = 1`` and a smooth valley in ``x1``:
 
 >>> import numpy as np
->>> from controlext.bfgs import bfgs
+>>> from controlext.synthesis.bfgs import bfgs
 >>> def f(x, grad=True, above=None):
 ...     value = abs(x[0] - 1) + 2 * (x[1] + 0.5) ** 2
 ...     g = np.array([np.sign(x[0] - 1), 4 * (x[1] + 0.5)])

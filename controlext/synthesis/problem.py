@@ -1,0 +1,269 @@
+"""The generalised plant: one description that every observer reduces to.
+
+::
+
+              w (noise, disturbance)
+              │
+        ┌─────▼──────────────────────────┐
+        │ x' = A x + B u + Bw w          │
+        │ y  = C x + D u + Dw w          ├──► z = Cz x   (what is estimated)
+        └─────┬──────────────────────────┘
+              │ y
+        ┌─────▼──────────────────────────────────────────────────┐
+        │ N coupled copies  x̂_i' = A x̂_i + B u                   │
+        │                       − Σ_j G_ij (C x̂_j + D u − y)     │
+        │ x̄ = Σ_i c_i x̂_i                                        │
+        └────────────────────────────────────────────────────────┘
+
+With ``Ae = I_N ⊗ A``, ``Ce = I_N ⊗ C``, ``Bwe = 1_N ⊗ Bw``,
+``Dwe = 1_N ⊗ Dw``, ``Cze = cᵀ ⊗ Cz`` and ``e_i = x̂_i − x``, the error obeys
+
+    e' = (Ae − G Ce) e + (G Dwe − Bwe) w,      z̄ = Cze e.
+
+``N = 1`` is the Luenberger observer (3) of Li & Sanfelice, ``N = 2`` their
+coupled pair (17)/(28) with ``G = Mu = [[K1, L1], [L2, K2]]``. The GI
+observer is the same problem with ``Bw (I − Π)`` and ``Dw = I − Π``.
+
+The runnable estimator comes from the same description.  Each copy has
+``m`` states ``ξ_i`` (``m = n``, or ``n + r`` with the disturbance
+estimate of the augmented GI observer), sees the measurement through a
+map ``M`` and may feed it forward through ``F``::
+
+    ξ_i' = A ξ_i + B u − Σ_j G_ij (C ξ_j − M (y − D u)) + F (y − D u)
+    x̂   = Σ_i c_i [I_n 0] ξ_i
+
+(``M = I``, ``F = 0`` for the Luenberger and coupled observers,
+``M = I − Π`` and ``F = [Bw Π; 0]`` for GI).  With the plant's own noise
+model ``(Bw_p, Dw_p)``, ``M C_p = C_p`` and ``F C_p = 0``, the error
+``ξ_i − [x; 0]`` obeys the error system above with ``Dw = M Dw_p`` and
+``Bw = [Bw_p; 0] − F Dw_p``: :meth:`ObserverProblem.estimator_matrices`
+and :meth:`ObserverProblem.error_system` cannot disagree.
+
+Examples
+--------
+>>> import numpy as np
+>>> from controlext.synthesis import ObserverProblem
+>>> prob = ObserverProblem(A=[[-0.5]], C=[[1.0]], copies=2)
+>>> prob.gain_shape
+(2, 2)
+>>> Acl, Bcl, Ccl, Dcl = prob.error_system(np.diag([2.0, 2.0]))
+>>> (Acl + 0.0).tolist(), Bcl.ravel().tolist(), Ccl.tolist()
+([[-2.5, 0.0], [0.0, -2.5]], [2.0, 2.0], [[0.5, 0.5]])
+"""
+
+from functools import cached_property
+
+import numpy as np
+
+from .._checks import as_matrix, as_plant, check_copies, noise_model, timebase
+from ..exceptions import ArgumentError, DimensionError, ParameterError
+
+__all__ = ['ObserverProblem', 'check_weights']
+
+
+class ObserverProblem:
+    """Generalised observer plant for ``copies`` coupled observers.
+
+    Parameters
+    ----------
+    A, C : array_like
+        Design dynamics and measurement matrices (``m × m``, ``p × m``).
+    Bw, Dw, Cz : array_like, optional
+        Noise model of the error system (defaults ``0``, ``I_p``,
+        ``I_m``).
+    copies : int, optional
+        Number of coupled observer copies ``N >= 1``.
+    weights : array_like, optional
+        Output weights ``c`` (length ``N``, summing to 1; default ``1/N``).
+    dt : float or None, optional
+        Sampling time (0 for continuous time, python-control's convention).
+    B, D : array_like, optional
+        The plant's input matrices (``m × nu`` in design coordinates,
+        ``p × nu``); default no inputs.
+    measure, feed : array_like, optional
+        The estimator's measurement map ``M`` (``p × p``, default ``I``)
+        and measurement feed-forward ``F`` (``m × p``, default 0).
+    states : int, optional
+        Number ``n <= m`` of plant states: the estimate is the first ``n``
+        design states (default ``m``).
+    plant_noise : (array_like, array_like), optional
+        The plant's own ``(Bw_p, Dw_p)``, how a disturbance enters the
+        plant (default: ``(Bw[:n], Dw)``, right when ``M = I``, ``F = 0``).
+    extra_outputs : (str, array_like), optional
+        A label and a map ``(k × (m − n))`` of further estimator outputs
+        from the extra design states (the disturbance estimate).
+    signals : dict, optional
+        The plant's name and signal labels (``name``, ``inputs``,
+        ``outputs``, ``states``).
+    """
+
+    def __init__(self, A, C, Bw=None, Dw=None, Cz=None, copies=1,
+                 weights=None, dt=0, *, B=None, D=None, measure=None,
+                 feed=None, states=None, plant_noise=None,
+                 extra_outputs=None, signals=None):
+        A = as_matrix(A, 'A', (None, None))
+        m = A.shape[0]
+        if A.shape != (m, m):
+            raise DimensionError(f"A must be square; found shape {A.shape}")
+        C = as_matrix(C, 'C', (None, m))
+        p = C.shape[0]
+        self.A, self.C = A, C
+        self.Bw, self.Dw, self.Cz = noise_model(m, p, Bw, Dw, Cz)
+        self.copies = check_copies(copies)
+        self.weights = check_weights(weights, self.copies)
+        self.dt = timebase(dt)
+        self.B = np.zeros((m, 0)) if B is None else as_matrix(B, 'B', (m, None))
+        self.D = np.zeros((p, self.B.shape[1])) if D is None else \
+            as_matrix(D, 'D', (p, self.B.shape[1]))
+        self.measure = np.eye(p) if measure is None else \
+            as_matrix(measure, 'measure', (p, p))
+        self.feed = np.zeros((m, p)) if feed is None else \
+            as_matrix(feed, 'feed', (m, p))
+        self.nx = m if states is None else int(states)
+        if not 1 <= self.nx <= m:
+            raise ParameterError(f"states must lie in [1, {m}]; found "
+                                 f"{self.nx}")
+        if plant_noise is None:
+            plant_noise = (self.Bw[:self.nx], self.Dw)
+        Bwp, Dwp = plant_noise
+        self.plant_Bw = as_matrix(Bwp, 'plant Bw', (self.nx, None))
+        self.plant_Dw = as_matrix(Dwp, 'plant Dw',
+                                  (p, self.plant_Bw.shape[1]))
+        if extra_outputs is not None:
+            label, Mx = extra_outputs
+            extra_outputs = (str(label),
+                             as_matrix(Mx, 'extra outputs', (None,
+                                                             m - self.nx)))
+        self.extra_outputs = extra_outputs
+        self.signals = dict(signals or {})
+
+    # sizes
+    n = property(lambda self: self.A.shape[0], doc="design states per copy")
+    p = property(lambda self: self.C.shape[0], doc="measurements")
+    q = property(lambda self: self.Bw.shape[1], doc="noise channels")
+    nz = property(lambda self: self.Cz.shape[0], doc="estimated outputs")
+    nu = property(lambda self: self.B.shape[1], doc="plant inputs")
+
+    @property
+    def gain_shape(self):
+        """Shape ``(N n, N p)`` of the coupled gain ``G``."""
+        return (self.copies * self.n, self.copies * self.p)
+
+    @cached_property
+    def Ae(self):
+        return np.kron(np.eye(self.copies), self.A)
+
+    @cached_property
+    def Ce(self):
+        return np.kron(np.eye(self.copies), self.C)
+
+    @cached_property
+    def Bwe(self):
+        return np.kron(np.ones((self.copies, 1)), self.Bw)
+
+    @cached_property
+    def Dwe(self):
+        return np.kron(np.ones((self.copies, 1)), self.Dw)
+
+    @cached_property
+    def Cze(self):
+        return np.kron(self.weights.reshape(1, -1), self.Cz)
+
+    @property
+    def noise_scale(self):
+        """Size of the noise-to-error channel ``‖Cze‖ (‖Bwe‖ + ‖Dwe‖)``."""
+        return float(np.linalg.norm(self.Cze, 2) *
+                     (np.linalg.norm(self.Bwe, 2) +
+                      np.linalg.norm(self.Dwe, 2)))
+
+    def error_system(self, G):
+        """Matrices ``(Acl, Bcl, Ccl, Dcl)`` of the error system for gain G."""
+        G = np.asarray(G, dtype=float)
+        return (self.Ae - G @ self.Ce, G @ self.Dwe - self.Bwe, self.Cze,
+                np.zeros((self.nz, self.q)))
+
+    def estimator_matrices(self, G, copy_outputs=False):
+        """``(A, Bu, By, C)`` of the runnable estimator for gain ``G``:
+        ``ξ' = A ξ + Bu u + By y``, outputs ``C ξ``: the estimate ``x̂``
+        (``n`` rows), then the extra outputs (averaged over the copies),
+        then, with ``copy_outputs``, every copy's estimate."""
+        G = np.asarray(G, dtype=float)
+        N, m, n = self.copies, self.n, self.nx
+        ones = np.ones((N, 1))
+        By = G @ np.kron(ones, self.measure) + np.kron(ones, self.feed)
+        Bu = np.kron(ones, self.B) - By @ self.D
+        pick = np.eye(m)[:n]
+        rows = [np.kron(self.weights.reshape(1, -1), pick)]
+        if self.extra_outputs is not None:
+            extra = np.hstack([np.zeros((self.extra_outputs[1].shape[0], n)),
+                               self.extra_outputs[1]])
+            rows.append(np.kron(self.weights.reshape(1, -1), extra))
+        if copy_outputs:
+            rows.append(np.kron(np.eye(N), pick))
+        return self.Ae - G @ self.Ce, Bu, By, np.vstack(rows)
+
+    def embed(self, L):
+        """The coupled gain ``I_N ⊗ L`` of a one-copy gain: every copy runs
+        the same Luenberger observer and the average equals it."""
+        return np.kron(np.eye(self.copies), np.asarray(L, dtype=float))
+
+    def replace(self, **changes):
+        """A copy with some fields changed."""
+        fields = dict(A=self.A, C=self.C, Bw=self.Bw, Dw=self.Dw, Cz=self.Cz,
+                      copies=self.copies, weights=None, dt=self.dt,
+                      B=self.B, D=self.D, measure=self.measure,
+                      feed=self.feed, states=self.nx,
+                      plant_noise=(self.plant_Bw, self.plant_Dw),
+                      extra_outputs=self.extra_outputs, signals=self.signals)
+        if 'copies' not in changes:
+            fields['weights'] = self.weights
+        fields.update(changes)
+        return ObserverProblem(**fields)
+
+    def single(self):
+        """The same problem with one copy."""
+        return self if self.copies == 1 else self.replace(copies=1)
+
+
+def check_weights(weights, copies):
+    """Output weights as an array of length ``copies`` summing to one."""
+    if weights is None:
+        return np.full(copies, 1.0 / copies)
+    try:
+        w = np.array(weights, dtype=float).ravel()
+    except (TypeError, ValueError) as exc:
+        raise ArgumentError("weights must be a sequence of numbers; found "
+                            f"{type(weights).__name__}") from exc
+    if w.size != copies:
+        raise DimensionError(f"weights has the wrong length; expected "
+                             f"{copies} (one per copy) instead of {w.size}")
+    if not np.all(np.isfinite(w)):
+        raise ParameterError(f"weights must be finite; found {w.tolist()}")
+    if abs(w.sum() - 1) > 1e-9:
+        raise ParameterError(f"weights must sum to 1; found sum "
+                             f"{w.sum():.6g} for weights {w.tolist()}")
+    return w
+
+
+def plant_problem(plant, Bw=None, Dw=None, Cz=None, copies=1, weights=None):
+    """The problem of a Luenberger or coupled observer of ``plant``
+    (``x' = A x + B u + Bw w``, ``y = C x + D u + Dw w``).
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> from controlext.synthesis.problem import plant_problem
+    >>> prob = plant_problem(ct.ss([[-1.0]], [[1.0]], [[2.0]], 0), copies=2)
+    >>> prob.gain_shape, prob.nu
+    ((2, 2), 1)
+    """
+    A, B, C, D, dt = as_plant(plant)
+    return ObserverProblem(A, C, Bw, Dw, Cz, copies=copies, weights=weights,
+                           dt=dt, B=B, D=D, signals=signals_of(plant))
+
+
+def signals_of(plant):
+    """The name and signal labels of a python-control system."""
+    return dict(name=plant.name, inputs=list(plant.input_labels),
+                outputs=list(plant.output_labels),
+                states=list(plant.state_labels))
