@@ -22,14 +22,13 @@ def main():
     print(f"{'case':<12}{'N':>3}{'LMI s':>9}{'refined s':>11}{'ratio':>8}"
           f"{'γ LMI':>10}{'γ refined':>11}{'2 procs s':>11}{'γ':>9}")
     with ProcessPoolExecutor(2) as pool:
-        cx.hinf_observer(cases[0][1], decay=2.5, refine_options=dict(
-            executor=pool))                          # start the workers
+        cx.hinf_observer(cases[0][1], decay=2.5,
+                         executor=pool)              # start the workers
         for name, plant, sigma in cases:
             for N in (1, 2, 3):
                 if N == 1:
                     make = lambda refine, pool=None: cx.hinf_observer(
-                        plant, decay=sigma, refine=refine,
-                        refine_options=dict(executor=pool))
+                        plant, decay=sigma, refine=refine, executor=pool)
                 else:
                     make = lambda refine, pool=None: cx.coupled_observer(
                         plant, decay=sigma, copies=N, refine=refine,

@@ -19,9 +19,11 @@ import controlext.synthesis.convex as convex
 PACKAGE = pathlib.Path(cx.__file__).parent
 SCALAR = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
 SECOND = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]], 0)
-GI_PLANT = ct.ss([[-1.0, 1.0], [0.0, -2.0]], [[0.0], [1.0]],
+#: an unstable plant with two redundant sensors; L = Bw, which would
+#: cancel the disturbance, is destabilising here, so γ* > 0
+GI_PLANT = ct.ss([[1.0, 1.0], [0.0, -2.0]], [[0.0], [1.0]],
                  [[1.0, 0.0], [1.0, 0.0]], 0)
-GI_BW = [[0.5, 0.2], [0.0, 1.0]]
+GI_BW = [[-0.5, 0.2], [0.0, 1.0]]
 
 #: process noise and measurement noise on separate channels: γ* > 0
 NOISE = dict(Bw=[[1.0, 0.0], [0.5, 0.0]], Dw=[[0.0, 1.0]])

@@ -97,9 +97,11 @@ def synthesise(problem, region, options, convex=None):
     best = verify_design(problem, convex.G, region, convex=convex)
     if not (options.refine and needs_refinement(problem, region)):
         return convex.G, best
-    if best.hinf <= 1e-12 * max(1.0, problem.noise_scale):
-        # γ = 0 is the least any design can have: nothing to refine
-        best.stats = dict(best.stats, floor='the convex design has γ = 0')
+    if best.hinf <= _equal(0.0, problem):
+        # γ = 0 is the least any design can have, and no design counts as
+        # better than one this close to it (see the ranking below)
+        best.stats = dict(best.stats, floor='the convex design has γ = 0 '
+                          'to the ranking tolerance: nothing to refine')
         return convex.G, best
     starts = [(best.stage, convex.G)]
     if problem.copies > 1:
@@ -131,9 +133,14 @@ def synthesise(problem, region, options, convex=None):
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
     # of γ cost unbounded gains)
     lowest = min(rep.hinf for rep, _ in verified)
-    tol = max(1e-3 * lowest, 1e-4 * problem.noise_scale)
     best, G = min(((rep, Gc) for rep, Gc in verified
-                   if rep.hinf <= lowest + tol),
+                   if rep.hinf <= lowest + _equal(lowest, problem)),
                   key=lambda item: np.linalg.norm(item[1], 2))
     best.method, best.stats = method, stats
     return G, best
+
+
+def _equal(gamma, problem):
+    """How far above ``gamma`` a design still counts as equally good:
+    0.1 % relative, and an absolute floor for norms near 0."""
+    return max(1e-3 * gamma, 1e-4 * problem.noise_scale)

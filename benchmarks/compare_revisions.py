@@ -1,0 +1,98 @@
+"""Time the same designs on this checkout and on another git revision.
+
+Each revision runs in its own process (a temporary ``git worktree`` for
+the baseline), the two alternating case by case so that both see the same
+machine load; the table gives each design's time on both, their ratio
+(this checkout / baseline) and both γ.  Only the public factories are
+called, with arguments every revision accepts.
+
+    python benchmarks/compare_revisions.py --baseline HEAD~1
+    python benchmarks/compare_revisions.py --baseline HEAD~1 --cases paper
+"""
+
+import argparse
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+#: name -> Python source of a zero-argument expression returning an observer
+CASES = {
+    'paper': {
+        'scalar N=1': "cx.hinf_observer(scalar, decay=2.5)",
+        'scalar N=2': "cx.coupled_observer(scalar, decay=2.5)",
+        'scalar N=3': "cx.coupled_observer(scalar, decay=2.5, copies=3)",
+        '2nd order N=1': "cx.hinf_observer(second, decay=1.0)",
+        '2nd order N=2': "cx.coupled_observer(second, decay=1.0)",
+        '2nd order N=3': "cx.coupled_observer(second, decay=1.0, copies=3)",
+    },
+    'gi': {
+        'GI decay 1': "cx.gi_observer(gi_plant, gi_bw, decay=1.0)",
+        'GI augmented': "cx.gi_observer(gi_plant, gi_bw, decay=1.0, "
+                        "augmented=True)",
+        'GI pair': "cx.gi_observer(gi_plant, gi_bw, decay=1.0, copies=2)",
+    },
+}
+
+RUNNER = r'''
+import json, sys, time, warnings
+import numpy as np
+import control as ct
+import controlext as cx
+warnings.simplefilter('ignore')
+scalar = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+second = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]], 0)
+gi_plant = ct.ss([[-1.0, 1.0], [0.0, -2.0]], [[0.0], [1.0]],
+                 [[1.0, 0.0], [1.0, 0.0]], 0)
+gi_bw = [[0.5, 0.2], [0.0, 1.0]]
+expr = sys.argv[1]
+start = time.perf_counter()
+obs = eval(expr)
+elapsed = time.perf_counter() - start
+print(json.dumps(dict(time=elapsed, gamma=float(obs.hinf))))
+'''
+
+
+def run(tree, expr):
+    env = dict(os.environ, PYTHONPATH=str(tree))
+    out = subprocess.run([sys.executable, '-c', RUNNER, expr], env=env,
+                         capture_output=True, text=True, check=True,
+                         cwd=tempfile.gettempdir())
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--baseline', default='HEAD~1')
+    parser.add_argument('--cases', nargs='*', default=list(CASES))
+    parser.add_argument('--repeat', type=int, default=1)
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        base = pathlib.Path(tmp) / 'baseline'
+        subprocess.run(['git', '-C', str(ROOT), 'worktree', 'add', '-q',
+                        '--detach', str(base), args.baseline], check=True)
+        try:
+            print(f"{'case':<16}{'this s':>9}{'base s':>9}{'ratio':>8}"
+                  f"{'γ this':>11}{'γ base':>11}")
+            for group in args.cases:
+                for name, expr in CASES[group].items():
+                    mine, theirs = [], []
+                    for _ in range(args.repeat):
+                        mine.append(run(ROOT, expr))
+                        theirs.append(run(base, expr))
+                    t1 = min(r['time'] for r in mine)
+                    t0 = min(r['time'] for r in theirs)
+                    print(f"{name:<16}{t1:>9.3f}{t0:>9.3f}{t1 / t0:>8.2f}"
+                          f"{mine[0]['gamma']:>11.5f}"
+                          f"{theirs[0]['gamma']:>11.5f}", flush=True)
+        finally:
+            subprocess.run(['git', '-C', str(ROOT), 'worktree', 'remove',
+                            '--force', str(base)], check=True)
+
+
+if __name__ == '__main__':
+    main()
