@@ -7,7 +7,7 @@ estimation-error system, so python-control's tools apply directly.
 # errors
 from .exceptions import (ControlextError, DimensionError, ArgumentError,
                          ParameterError, NotDetectableError, RegionError,
-                         SolverError, VerificationError)
+                         SolverError, VerificationError, GainWarning)
 # the H∞ norm with MATLAB's meaning  (norms.py)
 from .norms import hinfnorm, is_stable
 # the engine: generalised plant, options, pole regions, reports
@@ -40,6 +40,7 @@ __version__ = '0.1.0'
 __all__ = [
     'ControlextError', 'DimensionError', 'ArgumentError', 'ParameterError',
     'NotDetectableError', 'RegionError', 'SolverError', 'VerificationError',
+    'GainWarning',
     'Region', 'HalfPlane', 'Disk', 'Sector',
     'hinfnorm', 'is_stable',
     'ObserverProblem', 'SynthesisOptions', 'RefineOptions', 'DesignReport',

@@ -13,6 +13,9 @@ that already catches python-control's errors keeps working::
     ├── SolverError         (RuntimeError)
     └── VerificationError   (RuntimeError)
 
+    GainWarning             (UserWarning): a design whose gain or error
+                            poles lie far beyond the plant's scale
+
 Examples
 --------
 >>> import controlext as cx
@@ -25,6 +28,7 @@ from control.exception import ControlArgument, ControlDimension
 __all__ = [
     'ControlextError', 'DimensionError', 'ArgumentError', 'ParameterError',
     'NotDetectableError', 'RegionError', 'SolverError', 'VerificationError',
+    'GainWarning',
 ]
 
 
@@ -72,3 +76,9 @@ class SolverError(ControlextError, RuntimeError):
 
 class VerificationError(ControlextError, RuntimeError):
     """A synthesised design failed its own verification."""
+
+
+class GainWarning(UserWarning):
+    """A returned design's gain or error poles are far beyond the plant's
+    scale (the optimum is approached only as the gain grows): the design
+    is verified, but its gain amplifies rounding and unmodelled noise."""

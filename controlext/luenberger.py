@@ -19,7 +19,6 @@ Examples
 import time
 
 import numpy as np
-import control as ct
 
 from ._checks import as_matrix, check_name, format_mode, unobservable_modes
 from .exceptions import (ArgumentError, DimensionError, ParameterError,
@@ -27,6 +26,7 @@ from .exceptions import (ArgumentError, DimensionError, ParameterError,
 from .observers import Observer
 from .synthesis import SynthesisOptions, plant_problem
 from .synthesis.pipeline import design
+from .synthesis.placement import place_gain
 from .synthesis.verify import verify_design
 
 __all__ = ['LuenbergerObserver', 'luenberger_observer', 'hinf_observer']
@@ -126,18 +126,7 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
                      np.sort_complex(poles.conj())) > 1e-12):
         raise ParameterError("complex poles must come in conjugate pairs; "
                              f"found {poles.tolist()}")
-    # redundant sensors (rank C < p): place through an orthonormal basis U
-    # of range(C), C = U Cr, and use L = Lr Uᵀ so that L C = Lr Cr
-    Usv, sv, _ = np.linalg.svd(C, full_matrices=False)
-    U = Usv[:, :int(np.sum(sv > 1e-10 * max(1.0, sv[0])))]
-    Cr = U.T @ C
-    try:
-        L = _place(A, Cr, poles) @ U.T
-    except ValueError as exc:
-        raise ParameterError(
-            f"pole placement failed: {exc} (a pole may be repeated more "
-            f"often than the {U.shape[1]} independent measurements, "
-            "rank(C), allow)") from exc
+    L = place_gain(A, C, poles)
     placed = np.linalg.eigvals(A - L @ C)
     err = _match_error(placed, poles)
     if err > 1e-6 * max(1.0, np.max(np.abs(poles))):
@@ -148,16 +137,6 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
                            time=time.perf_counter() - start)
     return LuenbergerObserver.from_problem(problem, L, report=report,
                                            name=name)
-
-
-def _place(A, Cr, poles):
-    """Observer gain placing ``poles``: robust placement (``ct.place``),
-    or ``place_varga`` where a pole is repeated more often than the
-    rank of ``Cr`` (which ``ct.place`` refuses)."""
-    values, counts = np.unique(np.round(poles, 9), return_counts=True)
-    if counts.max() <= Cr.shape[0]:
-        return ct.place(A.T, Cr.T, poles).T
-    return ct.place_varga(A.T, Cr.T, poles).T
 
 
 def _match_error(a, b):

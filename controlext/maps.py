@@ -32,6 +32,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._checks import as_array, check_choice, check_finite
+from .exceptions import ArgumentError, DimensionError
+
 __all__ = ['DesignMap', 'design_map']
 
 
@@ -80,12 +83,20 @@ def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto',
     >>> m.gamma.shape
     (200, 200)
     """
-    from .exceptions import ArgumentError
-    xv = np.asarray(xvalues, dtype=float).ravel()
-    yv = np.asarray(yvalues, dtype=float).ravel()
-    if method not in ('auto', 'closed', 'batched'):
-        raise ArgumentError(f"method must be 'auto', 'closed' or 'batched'; "
-                            f"found {method!r}")
+    from .observers import Observer
+    if not isinstance(obs, Observer):
+        raise ArgumentError("design_map needs a controlext observer; found "
+                            f"{type(obs).__name__}")
+    xv = as_array(xvalues, 'xvalues').ravel()
+    yv = as_array(yvalues, 'yvalues').ravel()
+    for values, name in ((xv, 'xvalues'), (yv, 'yvalues')):
+        if values.size == 0:
+            raise DimensionError(f"{name} is empty; expected at least one "
+                                 "value")
+        check_finite(values, name)
+    for entry, name in ((xentry, 'xentry'), (yentry, 'yentry')):
+        _check_entry(entry, name, obs.problem.gain_shape)
+    check_choice(method, 'method', ('auto', 'closed', 'batched'))
     if executor is not None and len(yv) > 1:
         blocks = np.array_split(yv, min(len(yv), 8))
         parts = list(executor.map(_map_block, [
@@ -99,12 +110,24 @@ def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto',
     return DesignMap(xv, yv, gamma, decay, tuple(xentry), tuple(yentry))
 
 
+def _check_entry(entry, name, shape):
+    """A (row, column) index into the gain."""
+    if not (isinstance(entry, (tuple, list)) and len(entry) == 2 and
+            all(isinstance(i, (int, np.integer)) and not isinstance(i, bool)
+                for i in entry)):
+        raise ArgumentError(f"{name} must be a (row, column) pair of "
+                            f"integers; found {entry!r}")
+    for i, size, what in zip(entry, shape, ('row', 'column')):
+        if not 0 <= i < size:
+            raise DimensionError(f"{name} {what} {i} is outside the gain of "
+                                 f"shape {shape}")
+
+
 def _map_block(args):
     return _map_values(*args)
 
 
 def _map_values(prob, obs_G, xentry, xv, yentry, yv, method):
-    from .exceptions import ArgumentError
     G = np.broadcast_to(obs_G, (len(yv), len(xv)) + obs_G.shape).copy()
     G[:, :, xentry[0], xentry[1]] = xv[None, :]
     G[:, :, yentry[0], yentry[1]] = yv[:, None]

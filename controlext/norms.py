@@ -15,6 +15,9 @@ import numpy as np
 import scipy.linalg as la
 import control as ct
 
+from ._checks import check_finite
+from .exceptions import ArgumentError, ParameterError
+
 try:
     from slycot import ab13dd as _ab13dd
 except ImportError:         # pragma: no cover - a required dependency
@@ -57,7 +60,13 @@ def hinfnorm(sys, tol=1e-10):
     gamma : float
         The H∞ norm; ``inf`` if the system is not stable.
     fpeak : float
-        Frequency (rad/s) where the gain peaks; ``nan`` if unstable.
+        Frequency (rad/s) where the gain peaks (``inf`` for a peak at
+        infinite frequency); ``inf`` if unstable, as MATLAB returns.
+
+    Raises
+    ------
+    ParameterError
+        At once if the system has a NaN or inf entry.
 
     Examples
     --------
@@ -67,15 +76,22 @@ def hinfnorm(sys, tol=1e-10):
     >>> round(gamma, 4), round(w, 3)
     (5.0252, 0.99)
     >>> cx.hinfnorm(ct.tf([1], [1, -1]))
-    (inf, nan)
+    (inf, inf)
     """
-    sys = ct.ss(sys) if isinstance(sys, ct.TransferFunction) else sys
+    if isinstance(sys, ct.TransferFunction):
+        if not all(np.all(np.isfinite(c)) for row in sys.num + sys.den
+                   for c in row):
+            raise ParameterError("hinfnorm: the transfer function has a "
+                                 "NaN or inf coefficient")
+        sys = ct.ss(sys)
     if not isinstance(sys, ct.StateSpace):
-        from .exceptions import ArgumentError
         raise ArgumentError(f"hinfnorm expects a linear system; found "
                             f"{type(sys).__name__}")
+    for name in ('A', 'B', 'C', 'D'):
+        check_finite(np.asarray(getattr(sys, name), dtype=float),
+                     f"hinfnorm: {name}")
     if not is_stable(sys):
-        return float('inf'), float('nan')
+        return float('inf'), float('inf')
     try:
         gamma, fpeak = ct.linfnorm(sys, tol=tol)
     except Exception as exc:          # slycot raised (or is missing)
@@ -96,7 +112,7 @@ def hinfnorm_matrices(A, B, C, D, dt=0, tol=1e-10, poles=None):
     if poles is None:
         poles = la.eigvals(A) if n else np.zeros(0)
     if not is_stable(poles, dt):
-        return float('inf'), float('nan')
+        return float('inf'), float('inf')
     if n == 0:
         return (float(la.svdvals(D)[0]) if D.size else 0.0), 0.0
     if _ab13dd is not None:
@@ -145,11 +161,21 @@ def _levelset(A, B, C, D, tol=1e-10, maxiter=100):
     if n == 0:
         return (la.svdvals(D)[0] if D.size else 0.0), 0.0
     poles = la.eigvals(A)
+    size = np.abs(poles[np.abs(poles) > 0])
+    # the modes' frequencies and a coarse grid over their band: a start
+    # well above σmax(D) keeps the Hamiltonian well conditioned
+    band = np.logspace(np.log10(size.min() / 100), np.log10(size.max() * 100),
+                       60) if size.size else np.zeros(0)
     cands = [0.0] + [abs(p) for p in poles if abs(p.imag) > 0] + \
-        [abs(p.real) for p in poles]
+        [abs(p.real) for p in poles] + list(band)
     vals = [_sigma_max(A, B, C, D, w) for w in cands]
     k = int(np.argmax(vals))
     glb, wpeak = vals[k], cands[k]
+    # the gain at infinite frequency is σmax(D) (the Nyquist frequency of
+    # a discrete system under the bilinear map)
+    dinf = la.svdvals(D)[0] if D.size else 0.0
+    if dinf > glb:
+        glb, wpeak = dinf, np.inf
     Dm = D.T @ D
     for _ in range(maxiter):
         if glb == 0:
@@ -161,15 +187,33 @@ def _levelset(A, B, C, D, tol=1e-10, maxiter=100):
         H = np.block([[A - B @ Ri @ D.T @ C, -g * B @ Ri @ B.T],
                       [g * C.T @ la.inv(S) @ C, -A.T + C.T @ D @ Ri @ B.T]])
         ev = la.eigvals(H)
-        scale = max(1.0, np.max(np.abs(ev)))
-        ws = np.sort(ev.imag[(np.abs(ev.real) < 1e-8 * scale) &
-                             (ev.imag >= 0)])
-        if ws.size < 2:
-            return glb, wpeak
-        mids = 0.5 * (ws[:-1] + ws[1:])
+        # imaginary-axis eigenvalues, judged relative to their own size
+        # (a crossing at high frequency has a larger rounding error)
+        ws = np.sort(ev.imag[(np.abs(ev.real) <= 1e-5 * np.maximum(
+            1.0, np.abs(ev))) & (ev.imag >= 0)])
+        if ws.size == 0:
+            return _polish(A, B, C, D, glb, wpeak)
+        # the gain exceeds the level between crossings, and possibly
+        # below the first and above the last one
+        mids = list(0.5 * (ws[:-1] + ws[1:])) + [0.5 * ws[0], 2 * ws[-1]]
         vals = [_sigma_max(A, B, C, D, w) for w in mids]
         k = int(np.argmax(vals))
         if vals[k] <= glb:
-            return glb, wpeak
+            return _polish(A, B, C, D, glb, wpeak)
         glb, wpeak = vals[k], mids[k]
+    return _polish(A, B, C, D, glb, wpeak)
+
+
+def _polish(A, B, C, D, glb, wpeak):
+    """A last local search around a finite peak (every value found is a
+    lower bound of the norm, so the largest is kept)."""
+    if not np.isfinite(wpeak) or wpeak == 0:
+        return glb, wpeak
+    from scipy.optimize import minimize_scalar
+    res = minimize_scalar(lambda w: -_sigma_max(A, B, C, D, w),
+                          bounds=(0.5 * wpeak, 2.0 * wpeak),
+                          method='bounded',
+                          options={'xatol': 1e-12 * wpeak})
+    if -res.fun > glb:
+        return -res.fun, float(res.x)
     return glb, wpeak

@@ -81,6 +81,12 @@ def simulate(plant, observers, T, u=0.0, w=0.0, x0=0.0, xhat0=None,
         raise ArgumentError("observers must be controlext observers")
     A, B, C, D, dt = as_plant(plant)
     n, m, p = A.shape[0], B.shape[1], C.shape[0]
+    for obs in observers:
+        if obs.problem.dt != dt:
+            raise ArgumentError(
+                f"observer {obs.name!r} has timebase dt = {obs.problem.dt} "
+                f"but the plant has dt = {dt}: an observer runs at its "
+                "plant's sampling time (continuous: 0)")
     first = observers[0]
     if Bw is None:
         Bw = first.problem.plant_Bw

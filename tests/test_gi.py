@@ -102,7 +102,9 @@ def test_synthesised_gi_not_above_classic():
     plant3, Bw3 = three_sensor_plant()
     gi = cx.gi_observer(plant3, Bw3)
     classic = cx.hinf_observer(plant3, Bw=Bw3, Dw=np.eye(3), method='lmi')
-    assert gi.report.gamma_opt <= classic.report.gamma_opt * (1 + 1e-6)
+    # both optima are 0 here (L = Bw cancels the noise): equal to the
+    # solver's tolerance
+    assert gi.report.gamma_opt <= classic.report.gamma_opt * (1 + 1e-6) + 1e-6
     assert_blind_to_pi(plant3, gi)
     assert gi.hinf <= gi.report.gamma_bound * (1 + 1e-5) + 1e-5
 

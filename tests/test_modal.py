@@ -33,6 +33,7 @@ def test_split_orders_the_slow_modes_first():
     np.testing.assert_allclose(slow, np.sort(re[:4]), atol=1e-10)
 
 
+@pytest.mark.filterwarnings('ignore::controlext.GainWarning')   # convex only
 @pytest.mark.parametrize('seed', [0, 1, 2])
 def test_reduced_error_system_is_exact_without_process_noise(seed):
     """For L = U₁ L₁ and Bw = 0 the full error system's H∞ norm (slycot,

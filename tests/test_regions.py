@@ -160,12 +160,31 @@ def test_unobservable_mode_outside_disk_is_decided_before_solving(
         cx.coupled_observer(plant, region=cx.Disk(1.0, center=-3.0))
 
 
-def test_empty_region_is_a_solver_status_error():
-    empty = cx.HalfPlane(2.0) & cx.Disk(1.0)      # Re s <= -2 and |s| <= 1
-    with pytest.raises(cx.SolverError, match='infeasible') as info:
-        cx.hinf_observer(second_order(), region=empty)
-    assert info.value.status in ('infeasible', 'infeasible_inaccurate',
-                                 'solver_error')
+@pytest.mark.parametrize('region, dt', [
+    (cx.HalfPlane(2.0) & cx.Disk(1.0), 0),         # Re s <= -2, |s| <= 1
+    (cx.Disk(0.5, center=2.0), 0),                  # all in Re s > 0
+    (cx.Disk(0.2, center=1.5, domain='discrete'), 0.1),   # outside |z| < 1
+    (cx.Disk(0.3, center=0.5) & cx.Disk(0.2, center=-0.5), 0.1),
+], ids=['halfplane&disk', 'rhp-disk', 'outside-unit-circle', 'apart'])
+def test_empty_region_is_refused_from_its_geometry(monkeypatch, region, dt):
+    """An LMI region is convex and symmetric about the real axis: it has a
+    stable point if and only if it has a stable real point, which the
+    real-axis search decides before any solve."""
+    monkeypatch.setattr(lmi.cp.Problem, 'solve',
+                        lambda *a, **k: pytest.fail('solver ran'))
+    plant = second_order() if not dt else ct.c2d(second_order(), dt)
+    with pytest.raises(cx.RegionError, match='has no point'):
+        cx.hinf_observer(plant, region=region)
+
+
+def test_nonempty_regions_are_not_refused():
+    # touching only in the interior of the left half-plane
+    region = cx.Disk(1.0, center=-3.0) & cx.Disk(1.0, center=-1.5)
+    a, b = region.stable_interval()
+    assert a == pytest.approx(-2.5, abs=1e-6) and \
+        b == pytest.approx(-2.0, abs=1e-6)
+    z = cx.Disk(0.304, center=-0.08, domain='discrete').stable_interval(1)
+    assert z[0] == pytest.approx(-0.384, abs=1e-6)
 
 
 @pytest.mark.parametrize('make, match', [

@@ -36,11 +36,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..exceptions import ArgumentError
+from ..exceptions import (ArgumentError, ParameterError, SolverError,
+                          VerificationError)
 from .lmi import solve_observer_lmi
 from .modal import modal_applies, modal_problem
+from .placement import interior_poles, place_gain
 from .regions import HalfPlane
-from .riccati import hinf_filter_gain, hinf_filter_level
+from .riccati import hinf_filter_gain, hinf_filter_level, regularisations
+from .verify import verify_design
 
 __all__ = ['ConvexResult', 'convex_stage', 'riccati_applies']
 
@@ -69,6 +72,8 @@ class ConvexResult:
         Solver statistics of each solve.
     luenberger : ConvexResult or None
         For an embedded design, the one-copy result it embeds.
+    report : DesignReport or None
+        Its verification.
     """
     G: np.ndarray
     gamma_bound: float
@@ -79,6 +84,7 @@ class ConvexResult:
     status: str = 'optimal'
     stats: dict = field(default_factory=dict)
     luenberger: 'ConvexResult' = None
+    report: object = None
 
 
 def riccati_applies(problem, region):
@@ -89,7 +95,7 @@ def riccati_applies(problem, region):
 
 
 def convex_stage(problem, region, options):
-    """The certified convex design of ``problem`` in ``region``.
+    """The certified, verified convex design of ``problem`` in ``region``.
 
     Parameters
     ----------
@@ -104,21 +110,65 @@ def convex_stage(problem, region, options):
     Returns
     -------
     ConvexResult
+        With its verified ``report``.
 
     Raises
     ------
     ArgumentError
         If the requested ``method`` does not apply to the problem (before
         any solver runs).
+    SolverError
+        If no route gave a verified design; the message names each step
+        that failed and what to try.
+
+    Notes
+    -----
+    With ``method='auto'`` a route that fails numerically (a solver
+    status, no Riccati solution, a gain that fails verification) hands
+    over to the next: the full LMI, the shifted Riccati design, the LMI
+    with another installed solver, and — with a region — a gain placed
+    inside the region, from which refinement starts.
+    ``stats['fallback']`` records what failed on the way.
     """
     method = options.method
     if problem.copies > 1 and method != 'lmi':
         sub = convex_stage(problem.single(), region, options)
-        return ConvexResult(
-            G=problem.embed(sub.G), gamma_bound=sub.gamma_bound,
-            gamma_opt=sub.gamma_opt, method=f'embedded {sub.method}',
-            stage=sub.stage, solver=sub.solver, status=sub.status,
+        G = problem.embed(sub.G)
+        result = ConvexResult(
+            G=G, gamma_bound=sub.gamma_bound, gamma_opt=sub.gamma_opt,
+            method=f'embedded {sub.method}', stage=sub.stage,
+            solver=sub.solver, status=sub.status,
             stats={'luenberger': sub.stats}, luenberger=sub)
+        result.report = verify_design(problem, G, region, convex=result)
+        return result
+    failures = []
+    for name, route in _routes(problem, region, options):
+        try:
+            result = route()
+            result.report = verify_design(problem, result.G, region,
+                                          convex=result)
+        except (SolverError, ParameterError, VerificationError) as exc:
+            failures.append((name, exc))
+            continue
+        if failures:
+            result.stats['fallback'] = [(name, str(exc))
+                                        for name, exc in failures]
+        return result
+    if len(failures) == 1:          # the one route asked for
+        raise failures[0][1]
+    steps = '; '.join(f"{name}: {exc}" for name, exc in failures)
+    last = failures[-1][1]
+    raise SolverError(
+        f"no convex route gave a verified design ({steps}); try a looser "
+        "region, a larger margin= (1.1), another solver= or "
+        "solver_options={'max_iter': 500}",
+        status=getattr(last, 'status', 'failed'),
+        stats={'fallback': [(name, str(exc)) for name, exc in failures]})
+
+
+def _routes(problem, region, options):
+    """The convex routes to try, in order: ``[(name, thunk), ...]``."""
+    method = options.method
     riccati_ok = riccati_applies(problem, region)
     if method == 'riccati' and not riccati_ok:
         raise ArgumentError("method='riccati' needs a continuous plant, no "
@@ -135,12 +185,47 @@ def convex_stage(problem, region, options):
             f"method='modal' needs a pole region with {count} of A outside "
             "or near it, and noise that does not reach the other modes "
             "(Bw = 0 or in the span of the slow Schur vectors)")
-    if split is not None:
-        return _modal_design(problem, region, options, split)
-    if method == 'riccati' or (method == 'auto' and riccati_ok and (
-            region is None or problem.n > options.lmi_max_states)):
-        return _riccati_design(problem, region, options.margin)
-    return _lmi_design(problem, region, options)
+    lmi = ('lmi', lambda: _lmi_design(problem, region, options))
+    riccati = ('shifted riccati' if region is not None else 'riccati',
+               lambda: _riccati_design(problem, region, options.margin))
+    modal = ('modal lmi', lambda: _modal_design(problem, region, options,
+                                                split))
+    if method == 'lmi':
+        return [lmi]
+    if method == 'riccati':
+        return [riccati]
+    if method == 'modal':
+        return [modal]
+    large = problem.n > options.lmi_max_states
+    routes = [modal] if split is not None else []
+    if riccati_ok and (region is None or large):
+        routes += [riccati, lmi]
+    else:
+        routes += [lmi] + ([riccati] if riccati_ok else [])
+    other = [name for name in ('SCS', 'CLARABEL')
+             if name != options.solver_name and name in _installed()]
+    if other and options.solver is None:
+        again = options.replace(solver=other[0])
+        routes.append((f'lmi ({other[0]})',
+                       lambda: _lmi_design(problem, region, again)))
+    if region is not None:
+        routes.append(('placement', lambda: _placed_design(problem, region)))
+    return routes
+
+
+def _installed():
+    import cvxpy as cp
+    return cp.installed_solvers()
+
+
+def _placed_design(problem, region):
+    """A gain with the error poles placed inside the region: no bound to
+    certify, a verified start for refinement."""
+    poles = interior_poles(problem.A, region, problem.dt)
+    L = place_gain(problem.A, problem.C, poles)
+    return ConvexResult(G=L, gamma_bound=None, gamma_opt=float('nan'),
+                        method='placement', stage='placement',
+                        solver='placement')
 
 
 def _lmi_design(problem, region, options):
@@ -178,10 +263,19 @@ def _riccati_design(problem, region, margin):
     sigma = 0.0 if region is None else region.decay
     As = problem.A + sigma * np.eye(problem.n)
     args = (problem.C, problem.Bw, problem.Dw, problem.Cz)
-    gopt = hinf_filter_level(As, *args)
-    gbound = margin * gopt if gopt > 0 else 1e-9
-    L = hinf_filter_gain(As, *args, gbound if margin > 1 else
-                         gopt * (1 + 1e-6))
-    return ConvexResult(G=L, gamma_bound=gbound, gamma_opt=gopt,
-                        method='riccati' if region is None else
-                        'shifted riccati', stage='riccati', solver='riccati')
+    failure = None
+    for reg in regularisations(As, problem.Bw, problem.Dw):
+        try:
+            gopt = hinf_filter_level(As, *args, reg=reg)
+            gbound = margin * gopt if gopt > 0 else 1e-9
+            L = hinf_filter_gain(As, *args, gbound if margin > 1 else
+                                 gopt * (1 + 1e-6), reg=reg)
+        except ParameterError as exc:
+            failure = exc
+            continue
+        return ConvexResult(G=L, gamma_bound=gbound, gamma_opt=gopt,
+                            method='riccati' if region is None else
+                            'shifted riccati', stage='riccati',
+                            solver='riccati',
+                            stats={'riccati': {'regularisation': reg}})
+    raise failure

@@ -123,7 +123,11 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
     gbound = gamma_opt
     if margin > 1:
         n = Xv.shape[0]
-        xmax = max(float(np.linalg.eigvalsh(0.5 * (Xv + Xv.T))[-1]), 1e-12)
+        # X <= max(λmax(X₁), 1) I keeps stage 2 bounded; where γ* is not
+        # attained X₁ tends to 0, and a bound at λmax(X₁) alone would keep
+        # stage 2 at the same huge gain (scalar unstable plant, decay 2:
+        # L = 4.9e8 for γ 1.00000000, against 154 at 1.0065 by Riccati)
+        xmax = max(float(np.linalg.eigvalsh(0.5 * (Xv + Xv.T))[-1]), 1.0)
         inexact = stage1.status != cp.OPTIMAL
         tries = (margin, 1.05 * margin, 1.25 * margin) if inexact else \
             (margin,)
@@ -146,12 +150,12 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
                         f"'{stage2.status}' and its gain does not verify",
                         status=stage2.status, stats=stats)
                 if stage2.status != cp.OPTIMAL:
-                    stats['stage2']['verified'] = True
+                    stats.setdefault('stage2', {})['verified'] = True
                 Xv, Yv = X.value, Y.value
                 if stage1.status == cp.OPTIMAL and _stage1_is_better(
                         problem, region, X1, Y1, Xv, Yv, gamma_opt):
                     Xv, Yv, gbound = X1, Y1, gamma_opt
-                    stats['stage2']['kept'] = 'stage 1'
+                    stats.setdefault('stage2', {})['kept'] = 'stage 1'
                 break
             except SolverError:
                 if k + 1 < len(tries):
@@ -160,7 +164,8 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
                     raise
                 # stage 1's X is feasible for stage 2, so the failure is
                 # numerical: keep the stage-1 certificate and record it
-                stats['stage2']['fallback'] = 'stage 1 solution kept'
+                stats.setdefault('stage2', {})['fallback'] = \
+                    'stage 1 solution kept'
                 gbound = gamma_opt
     Xv = 0.5 * (Xv + Xv.T)
     G = np.linalg.solve(Xv, Yv)

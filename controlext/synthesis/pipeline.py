@@ -25,23 +25,27 @@ Examples
 """
 
 import time
+import warnings
 
 import numpy as np
 
 from .._checks import check_detectable, check_name, check_region_reachable
-from ..exceptions import VerificationError
+from ..exceptions import GainWarning, VerificationError
 from .convex import convex_stage
 from .refine import refine_gain
 from .regions import region_for
 from .verify import verify_design
 
-__all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem']
+__all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem',
+           'warn_if_extreme']
 
 
 def design(cls, problem, options, *, decay=None, region=None, name=None,
            what='plant'):
-    """The factories' road: check everything, synthesise, build the
-    observer of class ``cls`` from the problem it was designed on.
+    """The factories' road: check everything, synthesise on a scaled
+    realisation (:meth:`ObserverProblem.state_scaling`), map the gain
+    back, verify it on ``problem`` and build the observer of class
+    ``cls`` from the problem it was designed on.
 
     ``decay``/``region`` give the pole region (:func:`region_for`);
     ``what`` names the plant in a detectability error.  Every check runs
@@ -51,7 +55,18 @@ def design(cls, problem, options, *, decay=None, region=None, name=None,
     check_name(name)
     region = region_for(decay, region, problem.dt)
     check_problem(problem, region, what)
-    G, report = synthesise(problem, region, options)
+    # synthesis on a realisation whose scaling does not depend on the
+    # units of the states; the gain is mapped back and verified as given
+    d = problem.state_scaling()
+    scaled = problem.scaled(d)
+
+    def check(G, **info):
+        return verify_design(problem, problem.unscale_gain(G, d), region,
+                             **info)
+
+    G, report = synthesise(scaled, region, options, check=check)
+    warn_if_extreme(scaled, G, report, region)
+    G = problem.unscale_gain(G, d)
     report.time = time.perf_counter() - start
     return cls.from_problem(problem, G, report=report, name=name)
 
@@ -71,7 +86,7 @@ def needs_refinement(problem, region):
     return region is not None or problem.copies > 1
 
 
-def synthesise(problem, region, options, convex=None):
+def synthesise(problem, region, options, convex=None, check=None):
     """Convex stage, refinement where it is conservative, verification.
 
     Parameters
@@ -84,6 +99,10 @@ def synthesise(problem, region, options, convex=None):
         Checked options (``refine=False`` returns the convex design).
     convex : ConvexResult, optional
         An already computed convex stage of ``problem``.
+    check : callable, optional
+        ``check(G, **facts) -> DesignReport`` verifies a candidate gain
+        (default :func:`verify_design` on ``problem``); a candidate it
+        refuses is dropped, so the design returned is one it verified.
 
     Returns
     -------
@@ -92,11 +111,15 @@ def synthesise(problem, region, options, convex=None):
     report : DesignReport
         Its verified report.
     """
+    if check is None:
+        def check(G, **info):
+            return verify_design(problem, G, region, **info)
     if convex is None:
         convex = convex_stage(problem, region, options)
-    best = verify_design(problem, convex.G, region, convex=convex)
+    best = convex.report
     if not (options.refine and needs_refinement(problem, region)):
-        return convex.G, best
+        return convex.G, check(convex.G, convex=convex,
+                               gamma_bound=convex.gamma_bound)
     if best.hinf <= _equal(0.0, problem):
         # γ = 0 is the least any design can have, and no design counts as
         # better than one this close to it (see the ranking below)
@@ -125,10 +148,20 @@ def synthesise(problem, region, options, convex=None):
         candidates = [(res.G, 'refined')]
     candidates += [(G, label) for label, G in starts[1:]]
     method = f'{convex.method}+refine'
-    verified = [(best, convex.G)] + [
-        (verify_design(problem, Gc, region, method=method, stage=stage,
-                       convex=convex, stats=stats), Gc)
-        for Gc, stage in candidates]
+    verified, refused = [], []
+    for Gc, stage, facts in [(convex.G, best.stage, dict(
+            convex=convex, gamma_bound=convex.gamma_bound))] + [
+            (Gc, stage, dict(method=method, stage=stage, convex=convex,
+                             stats=stats)) for Gc, stage in candidates]:
+        try:
+            verified.append((check(Gc, **facts), Gc))
+        except VerificationError as exc:
+            refused.append((stage, str(exc)))
+    if refused:
+        stats['refused'] = refused
+    if not verified:
+        raise VerificationError("no candidate design verified: " + "; ".join(
+            f"{stage}: {why}" for stage, why in refused))
     # the smallest true norm wins; designs equal to within a tolerance are
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
     # of γ cost unbounded gains)
@@ -144,3 +177,33 @@ def _equal(gamma, problem):
     """How far above ``gamma`` a design still counts as equally good:
     0.1 % relative, and an absolute floor for norms near 0."""
     return max(1e-3 * gamma, 1e-4 * problem.noise_scale)
+
+
+#: how far beyond the plant's scale a gain or an error pole may go
+#: before the user is told
+EXTREME = 1e6
+
+
+def warn_if_extreme(problem, G, report, region=None):
+    """Warn (:class:`~controlext.exceptions.GainWarning`) when the gain or
+    the error poles of a design exceed ``EXTREME`` times the plant's
+    scale, measured on the unit-free realisation of
+    :meth:`~controlext.synthesis.ObserverProblem.state_scaling`: the
+    rate ``max(1, ‖A‖, the region's least speed)`` for the poles, that
+    rate over ``‖C‖`` for the gain."""
+    rate = max(1.0, np.linalg.norm(problem.A, 2))
+    if region is not None and not problem.dt:
+        rate = max(rate, -region.stable_interval()[1])
+    gain = np.linalg.norm(G, 2) / (rate / max(np.linalg.norm(problem.C, 2),
+                                              1e-300))
+    fastest = float(np.max(np.abs(report.poles))) / rate \
+        if not problem.dt and report.poles.size else 0.0
+    if gain > EXTREME or fastest > EXTREME:
+        warnings.warn(
+            f"the design's gain is {gain:.3g} times the plant's scale and "
+            f"its fastest error pole {fastest:.3g} times (γ = "
+            f"{report.hinf:.6g}); such a gain amplifies rounding and "
+            "unmodelled noise.  refine=False returns the convex design, "
+            "whose gain is conditioned (its γ within margin= of the convex "
+            "optimum; margin=1.1 gives a smaller gain still)", GainWarning,
+            stacklevel=3)

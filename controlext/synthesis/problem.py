@@ -224,6 +224,70 @@ class ObserverProblem:
         """The same problem with one copy."""
         return self if self.copies == 1 else self.replace(copies=1)
 
+    def state_scaling(self, sweeps=50):
+        """A diagonal state scaling ``d`` that does not depend on the
+        units of the states: the realisation ``(D⁻¹ A D, C D, D⁻¹ Bw,
+        Cz D)`` is the same for the problem in any units (``x' = T x``,
+        ``T`` diagonal, with ``C``, ``Cz`` and ``Bw`` transformed alike).
+
+        Each state is first measured in the units its columns of ``[C;
+        Cz]`` give it (unit column norms); Osborne sweeps then balance the
+        rows and columns of ``[[A, Bw], [C; Cz, 0]]`` over the states,
+        keeping ``‖[C; Cz] D‖_F`` fixed, so that the result is unique.
+        A state that no output sees keeps the scale of its neighbours.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from controlext.synthesis import ObserverProblem
+        >>> T = np.diag([1e-3, 1e3])
+        >>> A, C = np.array([[-1.0, 1.0], [0.0, -2.0]]), np.array([[1.0, 0.0]])
+        >>> p1 = ObserverProblem(A, C)
+        >>> p2 = ObserverProblem(T @ A @ np.linalg.inv(T),
+        ...                      C @ np.linalg.inv(T), Cz=np.linalg.inv(T))
+        >>> d1, d2 = p1.state_scaling(), p2.state_scaling()
+        >>> bool(np.allclose(p1.scaled(d1).A, p2.scaled(d2).A))
+        True
+        """
+        A, n = self.A, self.n
+        outputs = np.vstack([self.C, self.Cz])
+        col = np.linalg.norm(outputs, axis=0)
+        seen = col > 0
+        d = np.ones(n)
+        d[seen] = 1.0 / col[seen]
+        if not seen.all():
+            d[~seen] = np.exp(np.mean(np.log(d[seen]))) if seen.any() else 1
+        off = A * (1 - np.eye(n))
+        out2 = np.sum(outputs**2, axis=0)
+        bw2 = np.sum(self.Bw**2, axis=1)
+        target = np.sum(out2 * d**2)
+        for _ in range(sweeps):
+            before = d.copy()
+            for k in range(n):
+                row = np.sum((off[k] * d)**2) + bw2[k]
+                colk = np.sum((off[:, k] / d)**2) + out2[k]
+                if row > 0 and colk > 0:
+                    d[k] = (row / colk) ** 0.25
+            if target > 0:
+                d *= np.sqrt(target / np.sum(out2 * d**2))
+            if np.max(np.abs(np.log(d / before))) < 1e-12:
+                break
+        return d
+
+    def scaled(self, d):
+        """The problem in the scaled states ``D⁻¹ x`` (synthesis data
+        only: a gain ``G_s`` of it is ``(I_N ⊗ D) G_s`` here)."""
+        d = np.asarray(d, dtype=float)
+        return ObserverProblem(self.A / d[:, None] * d[None, :],
+                               self.C * d[None, :], self.Bw / d[:, None],
+                               self.Dw, self.Cz * d[None, :],
+                               copies=self.copies, weights=self.weights,
+                               dt=self.dt)
+
+    def unscale_gain(self, G, d):
+        """The gain of this problem for a gain ``G`` of ``scaled(d)``."""
+        return np.kron(np.ones(self.copies), np.asarray(d))[:, None] * G
+
 
 def check_weights(weights, copies):
     """Output weights as an array of length ``copies`` summing to one."""

@@ -90,6 +90,53 @@ class Region:
         """Largest margin over eigenvalues and parts (``<= 0`` inside)."""
         return float(np.max(self.margins(eigs)))
 
+    def stable_interval(self, dt=0):
+        """The real points of the region where an error pole is stable:
+        the interval ``(a, b)`` (``a`` may be very negative for unbounded
+        continuous-time regions), or None if the region has no stable
+        point at all.
+
+        An LMI region is convex and symmetric about the real axis, so it
+        has a stable point if and only if it has a real one: the worst
+        margin along the real axis (with ``Re s < 0``, or ``|z| < 1``
+        added) is convex, and its minimum decides the question.
+
+        Examples
+        --------
+        >>> import controlext as cx
+        >>> a, b = cx.Disk(0.5, center=-1.0).stable_interval()
+        >>> round(a, 6), round(b, 6)
+        (-1.5, -0.5)
+        >>> (cx.HalfPlane(2.0) & cx.Disk(1.0)).stable_interval() is None
+        True
+        """
+        from scipy.optimize import minimize_scalar
+        stability = (lambda x: abs(x) - 1.0) if dt else (lambda x: x)
+
+        def worst(x):
+            return max(self.worst_margin([x]), stability(x))
+
+        size = 1.0 + sum(abs(float(v)) for part in self._parts
+                         for v in np.ravel(part[0]))
+        lo, hi = (-1.0, 1.0) if dt else (-1e6 * size, 0.0)
+        res = minimize_scalar(worst, bounds=(lo, hi), method='bounded',
+                              options={'xatol': 1e-12 * size})
+        x = float(res.x)
+        if not worst(x) < -_TOL:
+            return None
+
+        def edge(outside):
+            inside = x
+            for _ in range(200):
+                mid = 0.5 * (inside + outside)
+                if worst(mid) < -_TOL:
+                    inside = mid
+                else:
+                    outside = mid
+            return inside
+
+        return edge(lo), edge(hi)
+
     def contains(self, eigs, tol=_TOL):
         """True if every eigenvalue lies in the region (to ``tol``)."""
         return self.worst_margin(eigs) <= tol
@@ -283,4 +330,10 @@ def region_for(decay=None, region=None, dt=0):
         if region.domain not in ('any', want):
             raise RegionError(f"{region} is a {region.domain}-time region "
                               f"but the plant is {want}-time")
+        if region.stable_interval(dt) is None:
+            where = 'inside the unit circle' if dt else \
+                'in the open left half-plane'
+            raise RegionError(f"{region} has no point {where}: no stable "
+                              "error dynamics lie in it (its parts do not "
+                              "intersect there)")
     return region

@@ -25,10 +25,10 @@ import scipy.linalg as la
 
 from ..exceptions import ParameterError
 
-__all__ = ['hinf_filter_level', 'hinf_filter_gain']
+__all__ = ['hinf_filter_level', 'hinf_filter_gain', 'regularisations']
 
 
-def _data(A, C, Bw, Dw, Cz):
+def _data(A, C, Bw, Dw, Cz, reg=0.0):
     A, C, Bw, Dw, Cz = (np.asarray(M, dtype=float) for M in (A, C, Bw, Dw, Cz))
     R = Dw @ Dw.T
     if np.linalg.matrix_rank(R) < R.shape[0]:
@@ -38,8 +38,25 @@ def _data(A, C, Bw, Dw, Cz):
             f"for {R.shape[0]} measurements: use method='lmi'")
     Ri = la.inv(R)
     Ab = A - Bw @ Dw.T @ Ri @ C
-    Q = Bw @ (np.eye(Dw.shape[1]) - Dw.T @ Ri @ Dw) @ Bw.T
+    Q = Bw @ (np.eye(Dw.shape[1]) - Dw.T @ Ri @ Dw) @ Bw.T + \
+        reg * np.eye(A.shape[0])
     return A, C, Bw, Dw, Cz, Ri, Ab, 0.5 * (Q + Q.T)
+
+
+def regularisations(A, Bw, Dw):
+    """Process-noise levels ``ε`` to try, 0 first.
+
+    With ``Q = 0`` on a mode of the imaginary axis (an integrator, an
+    undamped pendulum) the Hamiltonian keeps that mode on the axis and no
+    stabilising solution exists, although the filtering problem is well
+    posed.  ``Q + ε I`` is the same problem with an extra noise channel
+    ``√ε I`` that no measurement sees; its error system contains the
+    original one, so a gain it certifies at ``γ`` is certified at ``γ``
+    for the original problem too (more conservative by about ``√ε``).
+    """
+    size = max(1.0, np.linalg.norm(A, 2)) * max(
+        1.0, np.linalg.norm(Bw, 2)**2, np.linalg.norm(Dw, 2)**2)
+    return [0.0] + [float(k * size) for k in (1e-10, 1e-8, 1e-6)]
 
 
 def _riccati(Ab, W, Q):
@@ -71,11 +88,12 @@ def _feasible(data, gamma):
     return Y
 
 
-def hinf_filter_level(A, C, Bw, Dw, Cz, rtol=1e-6):
+def hinf_filter_level(A, C, Bw, Dw, Cz, rtol=1e-6, reg=0.0):
     """Optimal H∞ level ``γ*`` of the observer (bisection on the Riccati
     equation); 0 when the noise can be cancelled exactly (a level of
-    ``1e-12`` relative to the data is still reached)."""
-    data = _data(A, C, Bw, Dw, Cz)
+    ``1e-12`` relative to the data is still reached).  ``reg`` adds the
+    process noise ``reg · I`` (:func:`regularisations`)."""
+    data = _data(A, C, Bw, Dw, Cz, reg)
     hi = 1.0
     while _feasible(data, hi) is None:
         hi *= 4
@@ -101,9 +119,9 @@ def hinf_filter_level(A, C, Bw, Dw, Cz, rtol=1e-6):
     return hi
 
 
-def hinf_filter_gain(A, C, Bw, Dw, Cz, gamma):
+def hinf_filter_gain(A, C, Bw, Dw, Cz, gamma, reg=0.0):
     """Central-filter gain ``L`` achieving ``‖T‖∞ < gamma``."""
-    data = _data(A, C, Bw, Dw, Cz)
+    data = _data(A, C, Bw, Dw, Cz, reg)
     Y = _feasible(data, gamma)
     if Y is None:
         raise ParameterError(f"gamma = {gamma:g} is below the optimal H∞ "

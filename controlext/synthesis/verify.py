@@ -112,7 +112,8 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
     method, bound, γ*, solver, status and statistics of the convex stage.
     """
     if convex is not None:
-        gamma_bound = convex.gamma_bound if G is convex.G else gamma_bound
+        if G is convex.G and gamma_bound is None:
+            gamma_bound = convex.gamma_bound
         method = convex.method if method == 'given' else method
         info = dict(dict(stage=convex.stage, gamma_opt=convex.gamma_opt,
                          solver=convex.solver, status=convex.status,
@@ -142,3 +143,4 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
             f"the {method} design's true H∞ norm {gamma:.6g} exceeds its "
             f"certified bound {gamma_bound:.6g}")
     return report
+

@@ -1,0 +1,70 @@
+"""Pole placement for observers, also with redundant sensors.
+
+The gain is found through an orthonormal basis ``U`` of ``range(C)``
+(``C = U Cr``, ``L = Lr Uᵀ``, so ``L C = Lr Cr``): redundant sensors do
+not make the placement ill-posed, and the gain acts only through
+``range(C)``.  Distinct poles use python-control's robust placement;
+a pole repeated more often than ``rank C`` allows there uses
+``place_varga``.
+
+Examples
+--------
+>>> import numpy as np
+>>> from controlext.synthesis.placement import place_gain
+>>> L = place_gain(np.array([[0.0, 1.0], [0.0, 0.0]]),
+...                np.array([[1.0, 0.0]]), [-2.0, -2.0])
+>>> np.round(L, 6).ravel().tolist()
+[4.0, 4.0]
+"""
+
+import numpy as np
+import control as ct
+
+from ..exceptions import ParameterError
+
+__all__ = ['place_gain', 'interior_poles']
+
+
+def place_gain(A, C, poles):
+    """Observer gain ``L`` with the eigenvalues of ``A − L C`` at
+    ``poles``; raises :class:`ParameterError` when placement fails."""
+    Usv, sv, _ = np.linalg.svd(C, full_matrices=False)
+    U = Usv[:, :int(np.sum(sv > 1e-10 * max(1.0, sv[0])))]
+    Cr = U.T @ C
+    _, counts = np.unique(np.round(np.asarray(poles), 9), return_counts=True)
+    try:
+        if counts.max() <= Cr.shape[0]:
+            Lr = ct.place(A.T, Cr.T, poles).T
+        else:
+            Lr = ct.place_varga(A.T, Cr.T, poles).T
+    except (ValueError, ArithmeticError) as exc:
+        raise ParameterError(
+            f"pole placement failed: {exc} (a pole may be repeated more "
+            f"often than the {U.shape[1]} independent measurements, "
+            "rank(C), allow)") from exc
+    return Lr @ U.T
+
+
+def interior_poles(A, region, dt=0):
+    """``n`` distinct real points inside ``region`` (and the stability
+    region), at the scale of ``A``'s spectrum: starts for a design when
+    the convex routes fail.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import controlext as cx
+    >>> from controlext.synthesis.placement import interior_poles
+    >>> poles = interior_poles(np.diag([1.0, -3.0]), cx.HalfPlane(1.0))
+    >>> bool(np.all(poles < -1.0)), len(set(poles.tolist()))
+    (True, 2)
+    """
+    n = A.shape[0]
+    a, b = region.stable_interval(dt)
+    if not dt:
+        scale = max(1.0, float(np.max(np.abs(np.linalg.eigvals(A)))),
+                    abs(b))
+        a = max(a, b - 2 * scale)
+    width = b - a
+    return np.linspace(b - 0.1 * width, a + 0.1 * width, n) if n > 1 else \
+        np.array([0.5 * (a + b)])
