@@ -234,8 +234,10 @@ def format_mode(lam, dt):
 
 def check_detectable(A, C, dt=0, what="plant"):
     """Raise :class:`NotDetectableError` naming an unstable unobservable mode."""
+    # a mode on the stability boundary (to rounding) does not decay
+    edge = 1e-9 * max(1.0, np.linalg.norm(A, 2))
     for lam in unobservable_modes(A, C):
-        unstable = abs(lam) >= 1 if dt else lam.real >= 0
+        unstable = abs(lam) >= 1 - 1e-9 if dt else lam.real >= -edge
         if unstable:
             raise NotDetectableError(
                 f"the {what} is not detectable: the mode at "

@@ -26,7 +26,7 @@ from .exceptions import (ArgumentError, DimensionError, ParameterError,
 from .observers import Observer
 from .synthesis import SynthesisOptions, plant_problem
 from .synthesis.pipeline import design
-from .synthesis.placement import place_gain
+from .synthesis.placement import place_gain, placement_error
 from .synthesis.verify import verify_design
 
 __all__ = ['LuenbergerObserver', 'luenberger_observer', 'hinf_observer']
@@ -128,7 +128,7 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
                              f"found {poles.tolist()}")
     L = place_gain(A, C, poles)
     placed = np.linalg.eigvals(A - L @ C)
-    err = _match_error(placed, poles)
+    err = placement_error(placed, poles)
     if err > 1e-6 * max(1.0, np.max(np.abs(poles))):
         raise VerificationError(
             f"placed poles {np.round(placed, 6).tolist()} miss the requested "
@@ -137,15 +137,6 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
                            time=time.perf_counter() - start)
     return LuenbergerObserver.from_problem(problem, L, report=report,
                                            name=name)
-
-
-def _match_error(a, b):
-    b = list(b)
-    worst = 0.0
-    for x in a:
-        k = int(np.argmin([abs(x - y) for y in b]))
-        worst = max(worst, abs(x - b.pop(k)))
-    return worst
 
 
 def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,

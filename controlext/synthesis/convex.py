@@ -41,7 +41,7 @@ from ..exceptions import (ArgumentError, ParameterError, SolverError,
 from .lmi import solve_observer_lmi
 from .modal import modal_applies, modal_problem
 from .placement import interior_poles, place_gain
-from .regions import HalfPlane
+from .regions import Disk, HalfPlane
 from .riccati import hinf_filter_gain, hinf_filter_level, regularisations
 from .verify import verify_design
 
@@ -73,7 +73,8 @@ class ConvexResult:
     luenberger : ConvexResult or None
         For an embedded design, the one-copy result it embeds.
     report : DesignReport or None
-        Its verification.
+        Its verification; None for a placed gain whose poles missed the
+        region, which is only a start for refinement.
     """
     G: np.ndarray
     gamma_bound: float
@@ -139,7 +140,8 @@ def convex_stage(problem, region, options):
             method=f'embedded {sub.method}', stage=sub.stage,
             solver=sub.solver, status=sub.status,
             stats={'luenberger': sub.stats}, luenberger=sub)
-        result.report = verify_design(problem, G, region, convex=result)
+        if sub.report is not None:      # else only a start, as sub is
+            result.report = verify_design(problem, G, region, convex=result)
         return result
     failures = []
     for name, route in _routes(problem, region, options):
@@ -147,7 +149,18 @@ def convex_stage(problem, region, options):
             result = route()
             result.report = verify_design(problem, result.G, region,
                                           convex=result)
-        except (SolverError, ParameterError, VerificationError) as exc:
+        except VerificationError as exc:
+            failures.append((name, exc))
+            if name == 'placement' and options.refine and \
+                    np.all(np.isfinite(result.G)):
+                # the poles missed the region (an ill-conditioned pair):
+                # no design to return, but a start refinement can push
+                # inside the region
+                result.stats['fallback'] = [(n, str(e))
+                                            for n, e in failures]
+                return result
+            continue
+        except (SolverError, ParameterError) as exc:
             failures.append((name, exc))
             continue
         if failures:
@@ -208,8 +221,7 @@ def _routes(problem, region, options):
         again = options.replace(solver=other[0])
         routes.append((f'lmi ({other[0]})',
                        lambda: _lmi_design(problem, region, again)))
-    if region is not None:
-        routes.append(('placement', lambda: _placed_design(problem, region)))
+    routes.append(('placement', lambda: _placed_design(problem, region)))
     return routes
 
 
@@ -219,9 +231,11 @@ def _installed():
 
 
 def _placed_design(problem, region):
-    """A gain with the error poles placed inside the region: no bound to
-    certify, a verified start for refinement."""
-    poles = interior_poles(problem.A, region, problem.dt)
+    """A gain with the error poles placed inside the region (or the
+    stability region): no bound to certify, a start for refinement."""
+    stable = region if region is not None else \
+        Disk(1.0) if problem.dt else HalfPlane(0.0)
+    poles = interior_poles(problem.A, stable, problem.dt)
     L = place_gain(problem.A, problem.C, poles)
     return ConvexResult(G=L, gamma_bound=None, gamma_opt=float('nan'),
                         method='placement', stage='placement',

@@ -117,16 +117,17 @@ def synthesise(problem, region, options, convex=None, check=None):
     if convex is None:
         convex = convex_stage(problem, region, options)
     best = convex.report
-    if not (options.refine and needs_refinement(problem, region)):
+    if best is not None and not (options.refine and
+                                 needs_refinement(problem, region)):
         return convex.G, check(convex.G, convex=convex,
                                gamma_bound=convex.gamma_bound)
-    if best.hinf <= _equal(0.0, problem):
+    if best is not None and best.hinf <= _equal(0.0, problem):
         # γ = 0 is the least any design can have, and no design counts as
         # better than one this close to it (see the ranking below)
         best.stats = dict(best.stats, floor='the convex design has γ = 0 '
                           'to the ranking tolerance: nothing to refine')
         return convex.G, best
-    starts = [(best.stage, convex.G)]
+    starts = [(convex.stage, convex.G)]
     if problem.copies > 1:
         single = options if options.method != 'lmi' else \
             options.replace(method='auto')
@@ -149,7 +150,7 @@ def synthesise(problem, region, options, convex=None, check=None):
     candidates += [(G, label) for label, G in starts[1:]]
     method = f'{convex.method}+refine'
     verified, refused = [], []
-    for Gc, stage, facts in [(convex.G, best.stage, dict(
+    for Gc, stage, facts in [(convex.G, convex.stage, dict(
             convex=convex, gamma_bound=convex.gamma_bound))] + [
             (Gc, stage, dict(method=method, stage=stage, convex=convex,
                              stats=stats)) for Gc, stage in candidates]:
@@ -160,8 +161,14 @@ def synthesise(problem, region, options, convex=None, check=None):
     if refused:
         stats['refused'] = refused
     if not verified:
-        raise VerificationError("no candidate design verified: " + "; ".join(
-            f"{stage}: {why}" for stage, why in refused))
+        steps = [f"{stage}: {why}" for stage, why in refused]
+        if 'failed' in stats.get('refine', {}):
+            steps.append(f"refinement: {stats['refine']['failed']}")
+        steps += [f"{name}: {why}" for name, why in
+                  convex.stats.get('fallback', [])]
+        raise VerificationError(
+            "no candidate design verified (" + "; ".join(steps) + "); try "
+            "a looser region or a larger margin=")
     # the smallest true norm wins; designs equal to within a tolerance are
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
     # of γ cost unbounded gains)

@@ -22,7 +22,7 @@ import control as ct
 
 from ..exceptions import ParameterError
 
-__all__ = ['place_gain', 'interior_poles']
+__all__ = ['place_gain', 'placement_error', 'interior_poles']
 
 
 def place_gain(A, C, poles):
@@ -31,18 +31,38 @@ def place_gain(A, C, poles):
     Usv, sv, _ = np.linalg.svd(C, full_matrices=False)
     U = Usv[:, :int(np.sum(sv > 1e-10 * max(1.0, sv[0])))]
     Cr = U.T @ C
-    _, counts = np.unique(np.round(np.asarray(poles), 9), return_counts=True)
-    try:
-        if counts.max() <= Cr.shape[0]:
-            Lr = ct.place(A.T, Cr.T, poles).T
-        else:
-            Lr = ct.place_varga(A.T, Cr.T, poles).T
-    except (ValueError, ArithmeticError) as exc:
+    poles = np.asarray(poles)
+    _, counts = np.unique(np.round(poles, 9), return_counts=True)
+    tries = [ct.place_varga] if counts.max() > Cr.shape[0] else \
+        [ct.place, ct.place_varga]
+    best, failure = None, None
+    for method in tries:
+        try:
+            L = method(A.T, Cr.T, poles).T @ U.T
+        except (ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            failure = exc
+            continue
+        miss = placement_error(np.linalg.eigvals(A - L @ C), poles)
+        if best is None or miss < best[0]:
+            best = (miss, L)
+        if miss <= 1e-8 * max(1.0, np.max(np.abs(poles))):
+            break
+    if best is None:
         raise ParameterError(
-            f"pole placement failed: {exc} (a pole may be repeated more "
+            f"pole placement failed: {failure} (a pole may be repeated more "
             f"often than the {U.shape[1]} independent measurements, "
-            "rank(C), allow)") from exc
-    return Lr @ U.T
+            "rank(C), allow)") from failure
+    return best[1]
+
+
+def placement_error(placed, poles):
+    """The largest distance from a placed pole to its requested one."""
+    left = list(poles)
+    worst = 0.0
+    for x in placed:
+        k = int(np.argmin([abs(x - y) for y in left]))
+        worst = max(worst, abs(x - left.pop(k)))
+    return worst
 
 
 def interior_poles(A, region, dt=0):

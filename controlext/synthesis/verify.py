@@ -33,6 +33,9 @@ BOUND_RTOL = 1e-5
 BOUND_ATOL = 1e-5
 #: tolerance on region margins (absolute, scaled by the pole magnitude)
 REGION_TOL = 1e-6
+#: an error pole closer than this (relative) to the stability boundary
+#: does not decay: it is a mode the gain did not move, to rounding
+STABILITY_TOL = 1e-9
 
 
 @dataclass
@@ -126,10 +129,14 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
                           region=region, gamma_bound=gamma_bound, **info)
     if not check:
         return report
-    if not np.isfinite(gamma):
+    scale = max(1.0, float(np.max(np.abs(poles))) if poles.size else 1.0)
+    slowest = (1 - np.max(np.abs(poles))) if problem.dt else \
+        -np.max(poles.real) / scale if poles.size else 1.0
+    if not np.isfinite(gamma) or slowest <= STABILITY_TOL:
         raise VerificationError(
-            f"the {method} design is not stable: error poles "
-            f"{np.round(poles, 6).tolist()}")
+            f"the {method} design is not stable"
+            + (" beyond rounding" if np.isfinite(gamma) else "")
+            + f": error poles {np.round(poles, 6).tolist()}")
     if region is not None:
         scale = max(1.0, float(np.max(np.abs(poles))) if poles.size else 1.0)
         worst = region.worst_margin(poles)

@@ -1,0 +1,445 @@
+"""A randomized campaign of design calls, judged independently.
+
+Seeded random plants — continuous and discrete, 1-10 states, stable,
+unstable, marginal (modes on the imaginary axis or the unit circle),
+defective (Jordan blocks), nearly unobservable, badly scaled (units from
+1e-3 to 1e3), and ones with no solution by construction (an unstable
+mode unobservable, or an unobservable mode outside the region) — are
+designed by every observer kind (hinf, coupled N = 2 / 3, GI plain and
+augmented, coupled GI) with every region type (none, decay, disk, sector,
+intersections) and custom noise models, each call in its own process with
+a time limit.  Each returned design is judged without the package's
+verification code: the error system is rebuilt from the plant and the
+returned gain by hand; its poles must lie in the region (the region's own
+formula); its H∞ norm, by a dense grid refined at the peak and by
+``control.linfnorm``, must match ``obs.hinf``; in discrete time the
+estimator, run against the plant with noise, must give the error of the
+rebuilt error system.
+
+Outcomes: verified, refused right (no design exists, by construction),
+refused wrong (the package refused, an independent pole placement inside
+the region gives a stable design), refused (no independent proof either
+way), crash (a foreign exception), hang (time limit), silent wrong (a
+returned design that fails a check), and gains above 1e6 times the
+plant's scale returned without a GainWarning.
+
+    python benchmarks/design_campaign.py --calls 1000
+    python benchmarks/design_campaign.py --calls 60 --limit 60
+"""
+
+import argparse
+import collections
+import multiprocessing as mp
+import pathlib
+import sys
+import time
+import traceback
+import warnings
+
+import numpy as np
+import control as ct
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+from hinfnorm_accuracy import reference_norm  # noqa: E402
+
+KINDS = ('hinf', 'coupled2', 'coupled3', 'gi', 'gi-aug', 'gi-pair')
+FAMILIES = ('stable', 'unstable', 'marginal', 'defective',
+            'weakly-observable', 'badly-scaled', 'no-solution')
+
+
+# -- cases ------------------------------------------------------------------
+
+def make_case(seed):
+    """A seeded case: plant, kind, region spec, noise model, expectation."""
+    rng = np.random.default_rng(seed)
+    discrete = bool(rng.random() < 0.35)
+    family = FAMILIES[seed % len(FAMILIES)]
+    kind = KINDS[(seed // len(FAMILIES)) % len(KINDS)]
+    n = int(rng.integers(1, 11)) if kind in ('hinf', 'gi') else \
+        int(rng.integers(1, 7))
+    p = int(rng.integers(1, min(n, 3) + 1))
+    if kind.startswith('gi'):
+        p = int(rng.integers(2, 4))         # redundant sensors: Π ≠ 0
+    A, no_solution = _dynamics(rng, n, family)
+    C = rng.normal(size=(p, n))
+    if kind.startswith('gi') and p > 1:
+        C[-1] = C[0] * rng.uniform(0.5, 2)   # a redundant sensor
+    if family == 'weakly-observable':
+        # the last mode is seen 1e-6 as strongly as the others
+        lam, V = np.linalg.eig(A)
+        C = C + (1e-6 - 1) * np.outer(C @ np.real(V[:, -1]),
+                                      np.real(np.linalg.pinv(V)[-1]))
+    unobservable_mode = None
+    if family == 'no-solution':
+        # an unstable or slow mode that C does not see
+        A = np.block([[A, np.zeros((n, 1))],
+                      [np.zeros((1, n)),
+                       np.array([[rng.choice([0.3, -0.2])]])]])
+        C = np.hstack([C, np.zeros((p, 1))])
+        unobservable_mode = A[-1, -1]
+        n += 1
+    B = rng.normal(size=(n, 1))
+    if family == 'badly-scaled':
+        T = np.diag(10 ** rng.uniform(-3, 3, n))
+        A, B, C = T @ A @ np.linalg.inv(T), T @ B, C @ np.linalg.inv(T)
+    dt = 0
+    if discrete:
+        dt = float(10 ** rng.uniform(-2, -0.5))
+        sysd = ct.c2d(ct.ss(A, B, C, 0), dt)
+        A, B = sysd.A, sysd.B
+        if unobservable_mode is not None:
+            unobservable_mode = np.exp(unobservable_mode * dt)
+    region = _region(rng, discrete, dt)
+    noise = {}
+    if not kind.startswith('gi') and rng.random() < 0.4:
+        q = int(rng.integers(1, 3))
+        noise = dict(Bw=rng.normal(size=(n, q)),
+                     Dw=np.hstack([rng.normal(size=(p, q - 1)),
+                                   np.ones((p, 1))]) if q > 1 else
+                     rng.normal(size=(p, 1)))
+        if rng.random() < 0.3:
+            noise['Dw'] = np.zeros((p, q))          # noiseless sensors
+    Bw_gi = rng.normal(size=(n, p)) if kind.startswith('gi') else None
+    return dict(seed=seed, family=family, kind=kind, A=A, B=B, C=C, dt=dt,
+                region=region, noise=noise, Bw_gi=Bw_gi,
+                no_solution=family == 'no-solution' and not in_region(
+                    region, [unobservable_mode], dt))
+
+
+def _dynamics(rng, n, family):
+    if family == 'marginal':
+        parts = []
+        while sum(len(b) for b in parts) < n:
+            left = n - sum(len(b) for b in parts)
+            w = rng.uniform(0.3, 3)
+            parts.append(np.array([[0.0, w], [-w, 0.0]]) if left >= 2
+                         and rng.random() < 0.5 else np.array([[0.0]]))
+        A = _blocks(parts)
+    elif family == 'defective':
+        lam = rng.uniform(-1, 0.5)
+        A = lam * np.eye(n) + np.diag(np.ones(n - 1), 1)
+    else:
+        A = rng.normal(size=(n, n)) / np.sqrt(n)
+        shift = np.max(np.linalg.eigvals(A).real)
+        target = rng.uniform(0.1, 1.0) if family == 'unstable' else \
+            -rng.uniform(0.2, 2.0)
+        A += (target - shift) * np.eye(n)
+    Q = np.linalg.qr(rng.normal(size=(n, n)))[0]
+    return Q @ A @ Q.T, False
+
+
+def _blocks(parts):
+    n = sum(len(b) for b in parts)
+    out, k = np.zeros((n, n)), 0
+    for b in parts:
+        out[k:k + len(b), k:k + len(b)] = b
+        k += len(b)
+    return out
+
+
+def _region(rng, discrete, dt):
+    """A region spec: (name, parameters), judged by its own formula."""
+    choice = rng.integers(0, 4)
+    if choice == 0:
+        return None
+    if discrete:
+        if choice == 1:
+            return ('decay', float(rng.uniform(0.1, 2.0)))
+        if choice == 2:
+            return ('disk', float(rng.uniform(0.3, 0.9)),
+                    float(rng.uniform(-0.1, 0.1)))
+        return ('disk&disk', float(rng.uniform(0.5, 0.9)))
+    if choice == 1:
+        return ('decay', float(rng.uniform(0.1, 2.0)))
+    if choice == 2:
+        return ('sector', float(rng.uniform(0.2, 0.7)))
+    return ('decay&sector', float(rng.uniform(0.1, 1.0)),
+            float(rng.uniform(0.2, 0.6)))
+
+
+def build_region(spec):
+    import controlext as cx
+    if spec is None:
+        return None
+    name = spec[0]
+    if name == 'disk':
+        return cx.Disk(spec[1], center=spec[2], domain='discrete')
+    if name == 'disk&disk':
+        return cx.Disk(spec[1], domain='discrete') & \
+            cx.Disk(0.9, center=0.05, domain='discrete')
+    if name == 'sector':
+        return cx.Sector(spec[1])
+    if name == 'decay&sector':
+        return cx.HalfPlane(spec[1]) & cx.Sector(spec[2])
+    raise ValueError(name)
+
+
+def in_region(spec, poles, dt, tol=1e-6):
+    """The region's own formula (not the package's margins)."""
+    poles = np.asarray(poles, dtype=complex)
+    scale = max(1.0, float(np.max(np.abs(poles))))
+    # strictly stable, beyond rounding (a mode at 0 computed as -1e-19
+    # does not decay)
+    ok = (np.abs(poles) < 1 - 1e-9).all() if dt else \
+        (poles.real < -1e-9 * scale).all()
+    if spec is None:
+        return bool(ok)
+    name = spec[0]
+    if name == 'decay':
+        bound = (np.abs(poles) <= np.exp(-spec[1] * dt) + tol) if dt else \
+            (poles.real <= -spec[1] + tol * scale)
+    elif name == 'disk':
+        bound = np.abs(poles - spec[2]) <= spec[1] + tol
+    elif name == 'disk&disk':
+        bound = (np.abs(poles) <= spec[1] + tol) & \
+            (np.abs(poles - 0.05) <= 0.9 + tol)
+    elif name == 'sector':
+        th = np.arccos(spec[1])
+        bound = np.abs(poles.imag) <= -poles.real * np.tan(th) + tol * scale
+    else:
+        th = np.arccos(spec[2])
+        bound = (poles.real <= -spec[1] + tol * scale) & \
+            (np.abs(poles.imag) <= -poles.real * np.tan(th) + tol * scale)
+    return bool(ok and np.all(bound))
+
+
+# -- one call ---------------------------------------------------------------
+
+def design(case):
+    import controlext as cx
+    plant = ct.ss(case['A'], case['B'], case['C'], 0, case['dt'])
+    decay, region = None, None
+    if case['region'] is not None and case['region'][0] == 'decay':
+        decay = case['region'][1]
+    else:
+        region = build_region(case['region'])
+    kw = dict(decay=decay, region=region,
+              refine_options=dict(random_starts=6, polish=3))
+    kind = case['kind']
+    if kind == 'hinf':
+        return cx.hinf_observer(plant, **case['noise'], **kw)
+    if kind.startswith('coupled'):
+        return cx.coupled_observer(plant, copies=int(kind[-1]),
+                                   **case['noise'], **kw)
+    return cx.gi_observer(plant, case['Bw_gi'], augmented=kind == 'gi-aug',
+                          copies=2 if kind == 'gi-pair' else 1, **kw)
+
+
+def rebuild(case, obs):
+    """The error system from the plant and the returned gains, by hand."""
+    A, C = np.asarray(case['A']), np.asarray(case['C'])
+    n, p = A.shape[0], C.shape[0]
+    N = obs.copies
+    if case['kind'].startswith('gi'):
+        keep = C @ np.linalg.pinv(C)                    # I − Π
+        Bw, Dw = case['Bw_gi'] @ keep, keep
+        if case['kind'] == 'gi-aug':
+            U = np.linalg.svd(C)[0][:, :np.linalg.matrix_rank(C)]
+            r = U.shape[1]
+            hold = np.eye(r) if case['dt'] else np.zeros((r, r))
+            Aa = np.block([[A, case['Bw_gi'] @ U], [np.zeros((r, n)), hold]])
+            Ca = np.hstack([C, U])
+            G = np.vstack([obs.L, obs.Lw])
+            Acl = Aa - G @ Ca
+            Bcl = G @ Dw - np.vstack([Bw, np.zeros((r, p))])
+            Ccl = np.hstack([np.eye(n), np.zeros((n, r))])
+            return Acl, Bcl, Ccl
+        G = obs.L
+    else:
+        q = case['noise'].get('Bw', np.zeros((n, p))).shape[1]
+        Bw = case['noise'].get('Bw', np.zeros((n, q)))
+        Dw = case['noise'].get('Dw', np.eye(p))
+        G = obs.G
+    Acl = np.kron(np.eye(N), A) - G @ np.kron(np.eye(N), C)
+    Bcl = G @ np.kron(np.ones((N, 1)), Dw) - np.kron(np.ones((N, 1)), Bw)
+    Ccl = np.kron(np.full((1, N), 1.0 / N), np.eye(n))
+    return Acl, Bcl, Ccl
+
+
+def judge(case, obs):
+    """'' if the design passes every independent check, else why not."""
+    Acl, Bcl, Ccl = rebuild(case, obs)
+    poles = np.linalg.eigvals(Acl)
+    if not in_region(case['region'], poles, case['dt']):
+        return 'poles outside the region'
+    sys_ = ct.ss(Acl, Bcl, Ccl, 0, case['dt'])
+    grid = reference_norm(sys_, points=1500)
+    lin = ct.linfnorm(sys_)[0]
+    scale = max(grid, 1e-9 * max(1.0, np.linalg.norm(Bcl)))
+    # a frequency response is evaluated to about eps · cond(sI − A): the
+    # grid reference is no better than that at the peak
+    w = obs.report.peak_frequency
+    s = np.exp(1j * w * case['dt']) if case['dt'] else 1j * w
+    rtol = 1e-5 + 1e-14 * (np.linalg.cond(s * np.eye(len(Acl)) - Acl)
+                           if np.isfinite(w) else 0.0)
+    if abs(obs.hinf - grid) > rtol * scale + 1e-9 or \
+            abs(obs.hinf - lin) > 1e-5 * scale + 1e-9:
+        return f'norm {obs.hinf:.6g} vs grid {grid:.6g} / linfnorm {lin:.6g}'
+    if case['dt']:
+        # the estimator against the plant, with noise, is the error system
+        plant = ct.ss(case['A'], case['B'], case['C'], 0, case['dt'])
+        est = obs.estimator()
+        rng = np.random.default_rng(case['seed'])
+        steps = 60
+        w = rng.normal(size=(obs.ninputs, steps))
+        Bw, Dw = obs.problem.plant_Bw, obs.problem.plant_Dw
+        x, xi = rng.normal(size=plant.nstates), np.zeros(est.nstates)
+        e0 = xi.reshape(obs.copies, -1).copy()
+        e0[:, :plant.nstates] -= x
+        ref = ct.forced_response(obs, np.arange(steps) * case['dt'], w,
+                                 X0=e0.ravel()).outputs
+        err = []
+        for k in range(steps):
+            y = plant.C @ x + Dw @ w[:, k]
+            err.append(est.C @ xi - x)
+            xi = est.A @ xi + est.B @ np.concatenate([y, [0.0]])
+            x = plant.A @ x + Bw @ w[:, k]
+        err = np.array(err).T
+        # rounding grows with the gain's size over the steps
+        size = max(1.0, np.max(np.abs(ref)))
+        if np.max(np.abs(err - np.atleast_2d(ref))) > size * (
+                1e-7 + 1e-13 * steps * max(1.0, np.linalg.norm(obs.G))):
+            return 'estimator disagrees with the error system'
+    return ''
+
+
+def unobservable_outside(case, rtol=1e-9):
+    """A proof that no design exists: a mode of A outside the region (or
+    unstable) that the PBH test finds unobservable."""
+    A, C = np.asarray(case['A']), np.asarray(case['C'])
+    if case['kind'] == 'gi-aug':
+        return False
+    n = A.shape[0]
+    size = max(np.linalg.norm(A, 2), np.linalg.norm(C, 2))
+    for lam in np.linalg.eigvals(A):
+        if in_region(case['region'], [lam], case['dt']):
+            continue
+        M = np.vstack([A - lam * np.eye(n), C])
+        if np.linalg.svd(M, compute_uv=False)[-1] <= rtol * size:
+            return True
+    return False
+
+
+def placement_exists(case):
+    """An independent existence proof: poles placed inside the region
+    (control.place on the plant, or on the augmented plant)."""
+    A, C = np.asarray(case['A']), np.asarray(case['C'])
+    n = A.shape[0]
+    spec = case['region']
+    dt = case['dt']
+    if dt:
+        radius = 0.3 if spec is None else min(
+            np.exp(-spec[1] * dt) if spec[0] == 'decay' else spec[1], 0.9)
+        center = spec[2] if spec is not None and spec[0] == 'disk' else 0.0
+        poles = center + 0.5 * radius * np.linspace(-0.9, 0.9, n)
+    else:
+        sigma = 1.0 if spec is None or spec[0] == 'sector' else spec[1]
+        poles = -sigma - 1.0 - np.arange(n) * 0.5
+    try:
+        L = ct.place_varga(A.T, C.T, poles).T
+    except Exception:
+        return False
+    return in_region(spec, np.linalg.eigvals(A - L @ C), dt, tol=1e-4)
+
+
+def run_case(case, queue):
+    warnings.simplefilter('ignore')
+    import controlext as cx
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter('always')
+            obs = design(case)
+        warned = any(issubclass(w.category, cx.GainWarning) for w in caught)
+        why = judge(case, obs)
+        # the plant's scale: rate over measurement size (not meaningful
+        # in arbitrary units, so not judged on badly scaled plants)
+        rate = max(1.0, np.linalg.norm(case['A'], 2))
+        if case['region'] is not None and case['region'][0].startswith(
+                'decay') and not case['dt']:
+            rate = max(rate, case['region'][1])
+        big = case['family'] != 'badly-scaled' and \
+            np.linalg.norm(obs.G, 2) > 1e6 * rate / np.linalg.norm(
+                case['C'], 2)
+        queue.put(('silent wrong' if why else 'verified', why,
+                   bool(big and not warned)))
+    except cx.ControlextError as exc:
+        if case['no_solution'] or unobservable_outside(case):
+            queue.put(('refused right', type(exc).__name__, False))
+        elif placement_exists(case):
+            queue.put(('refused wrong', f"{type(exc).__name__}: {exc}"[:300],
+                       False))
+        else:
+            queue.put(('refused', f"{type(exc).__name__}: {exc}"[:200],
+                       False))
+    except Exception:
+        queue.put(('crash', traceback.format_exc()[-600:], False))
+
+
+def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
+    """Run ``calls`` cases; returns a Counter and the details."""
+    ctx = mp.get_context('fork')
+    counts, details = collections.Counter(), []
+    cases = [make_case(start + k) for k in range(calls)]
+    running = []
+    pending = list(cases)
+    while pending or running:
+        while pending and len(running) < workers:
+            case = pending.pop(0)
+            queue = ctx.Queue()
+            proc = ctx.Process(target=run_case, args=(case, queue))
+            proc.start()
+            running.append((case, proc, queue, time.perf_counter()))
+        time.sleep(0.02)
+        for item in list(running):
+            case, proc, queue, began = item
+            result = None
+            if not queue.empty():
+                result = queue.get()
+            elif not proc.is_alive():
+                result = ('crash', f'process died ({proc.exitcode})', False)
+            elif time.perf_counter() - began > limit:
+                proc.kill()
+                result = ('hang', f'over {limit:g} s', False)
+            if result is None:
+                continue
+            proc.join(timeout=5)
+            running.remove(item)
+            outcome, why, unwarned = result
+            counts[outcome] += 1
+            counts['unwarned huge gain'] += unwarned
+            details.append((case['seed'], case['family'], case['kind'],
+                            case['dt'] > 0, case['region'], outcome, why))
+            if verbose and outcome not in ('verified', 'refused right'):
+                print(case['seed'], case['family'], case['kind'], outcome,
+                      why, flush=True)
+    return counts, details
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--calls', type=int, default=1000)
+    parser.add_argument('--start', type=int, default=0)
+    parser.add_argument('--limit', type=float, default=120.0,
+                        help='seconds per call')
+    parser.add_argument('--workers', type=int, default=2)
+    args = parser.parse_args()
+    began = time.perf_counter()
+    counts, details = campaign(args.calls, args.limit, args.start,
+                               args.workers, verbose=True)
+    print(f"\n{args.calls} calls in {time.perf_counter() - began:.0f} s")
+    for outcome in ('verified', 'refused right', 'refused wrong', 'refused',
+                    'crash', 'hang', 'silent wrong', 'unwarned huge gain'):
+        print(f"{outcome:<20}{counts[outcome]:>6}"
+              f"{100 * counts[outcome] / args.calls:>8.1f} %")
+    by = collections.Counter((d[1], d[5]) for d in details)
+    print("\nby family:")
+    for family in FAMILIES:
+        row = {o: by[(family, o)] for o in ('verified', 'refused right',
+                                            'refused wrong', 'refused',
+                                            'crash', 'hang', 'silent wrong')}
+        print(f"  {family:<18}" + ' '.join(f"{k} {v}" for k, v in row.items()
+                                           if v))
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,24 @@
+"""A seeded subset of benchmarks/design_campaign.py: random plants of
+every family (unstable, marginal, defective, nearly unobservable, badly
+scaled, no solution) through every observer kind and region type, each
+design judged without the package's verification code (the error system
+rebuilt from the plant and the gain, the region's own formula, a grid
+norm and control.linfnorm, the estimator run against the plant)."""
+
+import pathlib
+import sys
+
+import pytest
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
+from design_campaign import campaign  # noqa: E402
+
+
+@pytest.mark.slow
+def test_seeded_campaign():
+    counts, details = campaign(42, limit=120.0, start=0, workers=2)
+    bad = [d for d in details if d[5] in ('crash', 'hang', 'silent wrong',
+                                          'refused wrong')]
+    assert not bad, bad
+    assert counts['unwarned huge gain'] == 0
+    assert counts['verified'] >= 30
