@@ -8,7 +8,7 @@ its estimation-error system from noise ``w`` to error ``z̄ = Cz (x̄ − x)``::
 so ``ct.linfnorm(obs)`` is the H∞ gain γ of the papers, ``ct.poles(obs)``
 gives the rate of convergence, ``ct.dcgain(obs)`` the steady-state error
 per unit bias and ``ct.step_response(obs)`` the error under a constant
-bias.  The runnable observer, with inputs ``[u; y]`` and output ``x̂``, is
+bias.  The runnable observer, with inputs ``[y; u]`` and output ``x̂``, is
 :meth:`Observer.estimator`.
 
 The object and its estimator come from one
@@ -82,6 +82,43 @@ class Observer(ct.StateSpace):
         obs = cls.__new__(cls)
         Observer.__init__(obs, problem, G, report=report, name=name)
         return obs
+
+    # a readable design ---------------------------------------------------
+
+    def _summary(self):
+        prob = self.problem
+        time_ = 'discrete' if prob.dt else 'continuous'
+        copies = f"{prob.copies} coupled copies" if prob.copies > 1 else \
+            "one copy"
+        return (f"{type(self).__name__} {self.name!r}: {copies} on a "
+                f"{prob.nx}-state, {prob.p}-output {time_}-time plant")
+
+    def __repr__(self):
+        return (f"<{type(self).__name__} {self.name!r}: copies={self.copies}"
+                f", states={self.problem.nx}, outputs={self.problem.p}, "
+                f"γ={self.hinf:.6g}, decay={self.decay:.6g}, "
+                f"stage={self.report.stage!r}>")
+
+    def __str__(self):
+        gain = np.array2string(self._G, precision=4, suppress_small=True,
+                               max_line_width=78)
+        return '\n'.join([self._summary(), str(self.report),
+                          f"gain norm ‖G‖              "
+                          f"{np.linalg.norm(self._G, 2):.6g}",
+                          "G =", gain])
+
+    def _repr_html_(self):
+        rows = [('γ (H∞, noise → error)', f"{self.hinf:.6g}"),
+                ('decay rate', f"{self.decay:.6g}"),
+                ('gain norm ‖G‖', f"{np.linalg.norm(self._G, 2):.6g}"),
+                ('stage', f"{self.report.stage} ({self.report.method})")]
+        if self.report.gamma_bound is not None:
+            rows.insert(1, ('convex stage certified',
+                            f"{self.report.gamma_bound:.6g}"))
+        body = ''.join(f"<tr><td>{k}</td><td>{v}</td></tr>" for k, v in rows)
+        gain = np.array2string(self._G, precision=4, suppress_small=True)
+        return (f"<p><b>{self._summary()}</b></p><table>{body}</table>"
+                f"<pre>G = {gain}</pre>")
 
     # pickling: python-control keeps two lambdas in the instance dictionary
     def __getstate__(self):

@@ -14,7 +14,8 @@ Examples
 >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
 >>> luen = cx.LuenbergerObserver(plant, [[2.0]])
 >>> T = np.linspace(0, 10, 501)
->>> resp = cx.simulate(plant, [luen], T, w=0.3, x0=3.0, xhat0=5.0)
+>>> resp = cx.simulate(plant, [luen], T, noise=0.3, initial_state=3.0,
+...                      initial_estimate=5.0)
 >>> resp.output_labels
 ['x[0]', 'xhat1[0]', 'e1[0]']
 >>> round(float(resp.outputs[2, -1]), 4)     # steady-state error 0.24
@@ -31,9 +32,20 @@ from .exceptions import ArgumentError
 __all__ = ['simulate']
 
 
-def simulate(plant, observers, T, u=0.0, w=0.0, x0=0.0, xhat0=None,
-             Bw=None, Dw=None):
-    """Simulate the plant and its observers on the time grid ``T``.
+#: python-control's legacy names (and this module's first ones)
+_ALIASES = {'T': 'timepts', 'U': 'inputs', 'u': 'inputs', 'w': 'noise',
+            'X0': 'initial_state', 'x0': 'initial_state',
+            'xhat0': 'initial_estimate'}
+
+
+def simulate(plant, observers, timepts=None, inputs=0.0, noise=0.0,
+             initial_state=0.0, initial_estimate=None, Bw=None, Dw=None,
+             **legacy):
+    """Simulate the plant and its observers on the time grid ``timepts``.
+
+    python-control's names are used (``timepts``, ``inputs``,
+    ``initial_state``); the legacy ``T``, ``U``/``u``, ``X0``/``x0``,
+    ``w`` and ``xhat0`` are accepted too.
 
     Parameters
     ----------
@@ -42,14 +54,14 @@ def simulate(plant, observers, T, u=0.0, w=0.0, x0=0.0, xhat0=None,
     observers : Observer or sequence of Observer
         Observers of this plant (their estimators run on the plant's
         measurement).
-    T : array_like
+    timepts : array_like
         Time points (evenly spaced; in steps of ``dt`` for discrete time).
-    u, w : array_like or float, optional
+    inputs, noise : array_like or float, optional
         Input and noise/disturbance signals: scalars, vectors (constant) or
-        arrays ``(channels, len(T))``.
-    x0 : array_like or float, optional
+        arrays ``(channels, len(timepts))``.
+    initial_state : array_like or float, optional
         Initial plant state.
-    xhat0 : array_like or float, optional
+    initial_estimate : array_like or float, optional
         Initial estimate of every observer (every copy of a coupled
         observer; disturbance estimates start at 0).  Default 0.
     Bw, Dw : array_like, optional
@@ -74,6 +86,23 @@ def simulate(plant, observers, T, u=0.0, w=0.0, x0=0.0, xhat0=None,
     >>> round(float(resp.outputs[-1, -1]), 4)
     0.2272
     """
+    given = dict(timepts=timepts, inputs=inputs, noise=noise,
+                 initial_state=initial_state,
+                 initial_estimate=initial_estimate)
+    defaults = dict(timepts=None, inputs=0.0, noise=0.0, initial_state=0.0,
+                    initial_estimate=None)
+    for old, value in legacy.items():
+        if old not in _ALIASES:
+            raise ArgumentError(f"unrecognized keyword(s): {old!r}")
+        new = _ALIASES[old]
+        if given[new] is not defaults[new] and not (
+                isinstance(given[new], float) and given[new] == 0.0):
+            raise ArgumentError(f"give {new}= or {old}=, not both")
+        given[new] = value
+    if given['timepts'] is None:
+        raise ArgumentError("simulate needs timepts (the time grid)")
+    T, u, w = given['timepts'], given['inputs'], given['noise']
+    x0, xhat0 = given['initial_state'], given['initial_estimate']
     if not isinstance(observers, (list, tuple)):
         observers = [observers]
     from .observers import Observer

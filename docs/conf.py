@@ -9,7 +9,9 @@ os.environ.setdefault('MPLBACKEND', 'Agg')
 project = 'controlext'
 author = 'controlext developers'
 copyright = '2026, controlext developers'
-release = '0.1.0'
+import controlext  # noqa: E402
+
+release = controlext.__version__
 
 extensions = [
     'sphinx.ext.autodoc',

@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt
 from control.matlab import ss, pole
 
 import controlext as cx
-from controlext.matlab import hinfobs, coupledobs, hinfnorm, obsim
+from controlext.matlab import hinfobs, coupledobs, hinfnorm
 
 A = [[-0.0558, -0.9968, 0.0802, 0.0415],
      [0.5980, -0.1150, -0.0318, 0.0],
@@ -38,7 +38,8 @@ for name, obs in designs.items():
 #     its peak frequency in its worst input direction (x0 = 0)
 fig, ax = plt.subplots(1, 2, figsize=(12, 4.4))
 t = np.linspace(0, 15, 1501)
-resp = obsim(sys, list(designs.values()), t, w=0.0, x0=[0.1, 0.0, 0.0, 0.05])
+resp = cx.simulate(sys, list(designs.values()), t,
+                   initial_state=[0.1, 0.0, 0.0, 0.05])
 cx.error_plot(resp, labels=list(designs), ax=np.array([[ax[0]]]),
               title='(a) initial estimation error, no noise')
 ninf, wpk = hinfnorm(designs['Luenberger'])
@@ -46,7 +47,7 @@ T = designs['Luenberger'](1j * wpk)
 v = np.linalg.svd(T)[2][0].conj()
 t = np.linspace(0, 60, 6001)
 w = 0.05 * np.real(np.outer(v, np.exp(1j * wpk * t)))
-resp = obsim(sys, list(designs.values()), t, w=w)
+resp = cx.simulate(sys, list(designs.values()), t, noise=w)
 cx.error_plot(resp, labels=list(designs), ax=np.array([[ax[1]]]),
               title=f'(b) worst-case noise for Luenberger ({wpk:.2f} rad/s)')
 for k, name in enumerate(designs):

@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt
 from control.matlab import ss, dcgain
 
 import controlext as cx
-from controlext.matlab import luenobs, giobs, obsim
+from controlext.matlab import luenobs, giobs
 
 A = [[-1.0, 1.0], [0.0, -2.0]]
 B = [[0.0], [1.0]]
@@ -27,8 +27,9 @@ print("DC gain of the augmented GI error system:",
       np.round(dcgain(gi), 12).tolist())
 
 t = np.linspace(0, 12, 1201)
-resp = obsim(sys, [classic, gi], t, u=np.sin(0.5 * t), w=[0.3, -0.1],
-             x0=[1.0, -1.0], Bw=Bw, Dw=np.eye(2))
+resp = cx.simulate(sys, [classic, gi], t, inputs=np.sin(0.5 * t),
+                   noise=[0.3, -0.1], initial_state=[1.0, -1.0], Bw=Bw,
+                   Dw=np.eye(2))
 for k, name in ((1, 'classic'), (2, 'GI')):
     e = resp.outputs[resp.output_labels.index(f'e{k}[0]')]
     print(f"{name:<8} final error e[0] = {e[-1]: .2e}")

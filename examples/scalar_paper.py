@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 from control.matlab import ss, pole, dcgain
 
 import controlext as cx
-from controlext.matlab import hinfnorm, coupledobs, obsim
+from controlext.matlab import hinfnorm, coupledobs
 
 sys = ss([[-0.5]], [[1.0]], [[1.0]], 0)
 
@@ -25,7 +25,8 @@ for name, obs in (('Luenberger k0 = 2', luen), ('pair (33)', pair),
           f"  e* (m = 0.3) = {0.3 * float(dcgain(obs)):.4f}")
 
 t = np.linspace(0, 5, 501)
-resp = obsim(sys, [luen, pair, best], t, w=0.3, x0=3.0, xhat0=5.0)
+resp = cx.simulate(sys, [luen, pair, best], t, noise=0.3, initial_state=3.0,
+                   initial_estimate=5.0)
 cplt = cx.error_plot(resp, labels=['Luenberger k0 = 2', 'pair (33)',
                                    'synthesised pair'], norm=False,
                      title='Scalar plant: errors under m = 0.3')

@@ -90,3 +90,36 @@ def test_estimator_converges_to_plant_state(second_order_plant):
     err = resp.outputs[2:] - resp.outputs[:2]
     assert np.linalg.norm(err[:, 0]) > 1
     assert np.linalg.norm(err[:, -1]) < 1e-4 * np.linalg.norm(err[:, 0])
+
+
+def test_readable_design(second_order_plant):
+    obs = cx.hinf_observer(second_order_plant, decay=1.0, name='obs1')
+    text = repr(obs)
+    assert text.startswith("<LuenbergerObserver 'obs1': copies=1")
+    assert f"γ={obs.hinf:.6g}" in text and "stage='refined'" in text
+    shown = str(obs)
+    assert 'H∞ norm (noise → error)' in shown and 'G =' in shown
+    assert 'refined' in shown
+    html = obs._repr_html_()
+    assert '<table>' in html and 'LuenbergerObserver' in html
+    assert len(repr(obs.report)) < 200
+    assert 'convex bound' in repr(obs.report)
+
+
+def test_matlab_conventions(second_order_plant):
+    import controlext.matlab as cm
+    L = np.array([[2.0], [5.0]])
+    est = cm.estim(second_order_plant, L)
+    A, C = second_order_plant.A, second_order_plant.C
+    np.testing.assert_allclose(est.A, A - L @ C)           # x̂' = (A-LC)x̂+..
+    np.testing.assert_allclose(est.C[:1], C)               # ŷ = C x̂
+    np.testing.assert_allclose(est.C[1:], np.eye(2))       # x̂
+    obs = cx.LuenbergerObserver(second_order_plant, L)
+    t = np.linspace(0, 5, 101)
+    y, tout, x = cm.obsim(second_order_plant, obs, t, x0=[1.0, 0.0])
+    resp = cx.simulate(second_order_plant, obs, t, initial_state=[1.0, 0.0])
+    np.testing.assert_allclose(y, resp.outputs.T)
+    assert y.shape == (101, 6) and x.shape[0] == 101
+    np.testing.assert_allclose(tout, t)
+    unstable = ct.ss([[1.0]], [[1.0]], [[1.0]], 0)
+    assert cm.hinfnorm(unstable) == (np.inf, np.inf)        # MATLAB: Inf

@@ -38,7 +38,7 @@ REGION_TOL = 1e-6
 STABILITY_TOL = 1e-9
 
 
-@dataclass
+@dataclass(repr=False)
 class DesignReport:
     """What a design is and how it was obtained.
 
@@ -90,6 +90,30 @@ class DesignReport:
     def as_dict(self):
         """The report as a plain dictionary."""
         return asdict(self)
+
+    def __repr__(self):
+        bound = 'none' if self.gamma_bound is None else \
+            f'{self.gamma_bound:.6g}'
+        return (f"DesignReport(hinf={self.hinf:.6g}, decay={self.decay:.6g}, "
+                f"stage={self.stage!r}, method={self.method!r}, "
+                f"convex bound={bound}, time={self.time:.3g} s)")
+
+    def __str__(self):
+        lines = [f"H∞ norm (noise → error)   {self.hinf:.6g}"
+                 + (f"  at ω = {self.peak_frequency:.4g} rad/s"
+                    if np.isfinite(self.peak_frequency) else ""),
+                 f"decay rate                {self.decay:.6g}"
+                 + (f"  (region {self.region})" if self.region is not None
+                    else "")]
+        if self.gamma_bound is not None:
+            lines.append(f"convex stage: certified   {self.gamma_bound:.6g}"
+                         f", optimum of its LMI {self.gamma_opt:.6g}"
+                         if self.gamma_opt is not None and
+                         np.isfinite(self.gamma_opt) else
+                         f"convex stage: certified   {self.gamma_bound:.6g}")
+        lines.append(f"gain from                 {self.stage} ({self.method}"
+                     f", {self.time:.3g} s)")
+        return '\n'.join(lines)
 
 
 def decay_rate(poles, dt=0):
