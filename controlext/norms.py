@@ -98,6 +98,13 @@ def hinfnorm(sys, tol=1e-10):
         warnings.warn(f"slycot ab13dd failed ({exc!r}); using the level-set "
                       "fallback", RuntimeWarning, stacklevel=2)
         gamma, fpeak = _hinfnorm_fallback(sys, tol)
+    else:
+        # both values are gains at a frequency, so lower bounds: keep the
+        # larger (ab13dd was seen to miss a discrete system's peak by
+        # 0.05 %, 974.899 at 64.1 rad/s against 975.346 at 48.65)
+        other, wother = _hinfnorm_fallback(sys, tol)
+        if other > gamma:
+            gamma, fpeak = other, wother
     return float(gamma), float(fpeak)
 
 
