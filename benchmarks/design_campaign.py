@@ -272,9 +272,14 @@ def judge(case, obs):
     s = np.exp(1j * w * case['dt']) if case['dt'] else 1j * w
     rtol = 1e-5 + 1e-14 * (np.linalg.cond(s * np.eye(len(Acl)) - Acl)
                            if np.isfinite(w) else 0.0)
-    if abs(obs.hinf - grid) > rtol * scale + 1e-9 or \
-            abs(obs.hinf - lin) > 1e-5 * scale + 1e-9:
-        return f'norm {obs.hinf:.6g} vs grid {grid:.6g} / linfnorm {lin:.6g}'
+    # the grid and linfnorm are gains at frequencies, so lower bounds of
+    # the norm (linfnorm's ab13dd can miss a peak): obs.hinf must reach
+    # the larger, and be attained where the report says the peak is
+    attained = _gain_at(Acl, Bcl, Ccl, case['dt'], w)
+    if obs.hinf < max(grid, lin) - rtol * scale - 1e-9 or \
+            abs(attained - obs.hinf) > rtol * scale + 1e-9:
+        return (f'norm {obs.hinf:.6g} vs grid {grid:.6g} / linfnorm '
+                f'{lin:.6g} / at its peak {attained:.6g}')
     if case['dt']:
         # the estimator against the plant, with noise, is the error system
         plant = ct.ss(case['A'], case['B'], case['C'], 0, case['dt'])
@@ -318,6 +323,16 @@ def unobservable_outside(case, rtol=1e-9):
         if np.linalg.svd(M, compute_uv=False)[-1] <= rtol * size:
             return True
     return False
+
+
+def _gain_at(A, B, C, dt, w):
+    """σmax of the frequency response at ``w`` (rad/s; ∞ allowed)."""
+    if not np.isfinite(w):
+        return 0.0 if not dt else _gain_at(A, B, C, dt, np.pi / (
+            1.0 if dt is True else dt))
+    s = np.exp(1j * w * dt) if dt else 1j * w
+    return float(np.linalg.svd(C @ np.linalg.solve(s * np.eye(len(A)) - A,
+                                                   B), compute_uv=False)[0])
 
 
 def placement_exists(case):
