@@ -188,6 +188,22 @@ def noise_model(n, p, Bw=None, Dw=None, Cz=None):
     return Bw, Dw, Cz
 
 
+def check_weights(weights, copies):
+    """Output weights as an array of length ``copies`` summing to one."""
+    if weights is None:
+        return np.full(copies, 1.0 / copies)
+    w = as_array(weights, 'weights').ravel()
+    if w.size != copies:
+        raise DimensionError(f"weights has the wrong length; expected "
+                             f"{copies} (one per copy) instead of {w.size}")
+    if not np.all(np.isfinite(w)):
+        raise ParameterError(f"weights must be finite; found {w.tolist()}")
+    if abs(w.sum() - 1) > 1e-9:
+        raise ParameterError(f"weights must sum to 1; found sum "
+                             f"{w.sum():.6g} for weights {w.tolist()}")
+    return w
+
+
 # -- modes ------------------------------------------------------------------
 
 def balance_pair(A, C):

@@ -55,10 +55,11 @@ from functools import cached_property
 
 import numpy as np
 
-from .._checks import as_matrix, as_plant, check_copies, noise_model, timebase
-from ..exceptions import ArgumentError, DimensionError, ParameterError
+from .._checks import (as_matrix, as_plant, check_copies, check_weights,
+                       noise_model, timebase)
+from ..exceptions import DimensionError, ParameterError
 
-__all__ = ['ObserverProblem', 'check_weights']
+__all__ = ['ObserverProblem', 'plant_problem', 'signals_of']
 
 
 class ObserverProblem:
@@ -287,26 +288,6 @@ class ObserverProblem:
     def unscale_gain(self, G, d):
         """The gain of this problem for a gain ``G`` of ``scaled(d)``."""
         return np.kron(np.ones(self.copies), np.asarray(d))[:, None] * G
-
-
-def check_weights(weights, copies):
-    """Output weights as an array of length ``copies`` summing to one."""
-    if weights is None:
-        return np.full(copies, 1.0 / copies)
-    try:
-        w = np.array(weights, dtype=float).ravel()
-    except (TypeError, ValueError) as exc:
-        raise ArgumentError("weights must be a sequence of numbers; found "
-                            f"{type(weights).__name__}") from exc
-    if w.size != copies:
-        raise DimensionError(f"weights has the wrong length; expected "
-                             f"{copies} (one per copy) instead of {w.size}")
-    if not np.all(np.isfinite(w)):
-        raise ParameterError(f"weights must be finite; found {w.tolist()}")
-    if abs(w.sum() - 1) > 1e-9:
-        raise ParameterError(f"weights must sum to 1; found sum "
-                             f"{w.sum():.6g} for weights {w.tolist()}")
-    return w
 
 
 def plant_problem(plant, Bw=None, Dw=None, Cz=None, copies=1, weights=None):
