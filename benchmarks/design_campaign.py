@@ -436,9 +436,10 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
             counts['unwarned huge gain'] += unwarned
             details.append((case['seed'], case['family'], case['kind'],
                             case['dt'] > 0, case['region'], outcome, why))
-            if verbose and outcome not in ('verified', 'refused right'):
+            if verbose:
                 print(case['seed'], case['family'], case['kind'], outcome,
-                      why, flush=True)
+                      why if outcome not in ('verified', 'refused right')
+                      else '', flush=True)
     return counts, details
 
 
