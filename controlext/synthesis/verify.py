@@ -154,8 +154,14 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
     if not check:
         return report
     scale = max(1.0, float(np.max(np.abs(poles))) if poles.size else 1.0)
-    slowest = (1 - np.max(np.abs(poles))) if problem.dt else \
-        -np.max(poles.real) / scale if poles.size else 1.0
+    # distance of the slowest pole from the stability boundary (relative
+    # to the poles' size in continuous time)
+    if not poles.size:
+        slowest = 1.0
+    elif problem.dt:
+        slowest = 1 - float(np.max(np.abs(poles)))
+    else:
+        slowest = -float(np.max(poles.real)) / scale
     if not np.isfinite(gamma) or slowest <= STABILITY_TOL:
         raise VerificationError(
             f"the {method} design is not stable"
