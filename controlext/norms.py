@@ -9,6 +9,8 @@ discrete-time systems reach the fallback through the norm-preserving
 bilinear map ``z = (1 + s) / (1 - s)``.
 """
 
+from __future__ import annotations
+
 import warnings
 
 import numpy as np
@@ -17,6 +19,7 @@ import control as ct
 
 from ._checks import check_finite
 from .exceptions import ArgumentError, ParameterError
+from ._typing import ArrayLike, Plant
 
 try:
     from slycot import ab13dd as _ab13dd
@@ -26,7 +29,7 @@ except ImportError:         # pragma: no cover - a required dependency
 __all__ = ['hinfnorm', 'is_stable']
 
 
-def is_stable(sys_or_poles, dt=0):
+def is_stable(sys_or_poles: Plant | ArrayLike, dt: float | bool = 0) -> bool:
     """True if every pole lies strictly inside the stability region.
 
     Examples
@@ -45,7 +48,7 @@ def is_stable(sys_or_poles, dt=0):
     return bool(np.abs(poles).max() < 1 if dt else poles.real.max() < 0)
 
 
-def hinfnorm(sys, tol=1e-10):
+def hinfnorm(sys: Plant, tol: float = 1e-10) -> tuple[float, float]:
     """H∞ norm and peak frequency of a linear system.
 
     Parameters
@@ -92,6 +95,7 @@ def hinfnorm(sys, tol=1e-10):
                      f"hinfnorm: {name}")
     if not is_stable(sys):
         return float('inf'), float('inf')
+    wother = np.nan
     try:
         gamma, fpeak = ct.linfnorm(sys, tol=tol)
     except Exception as exc:          # slycot raised (or is missing)
@@ -109,6 +113,8 @@ def hinfnorm(sys, tol=1e-10):
             other = -np.inf
         if other > gamma:
             gamma, fpeak = other, wother
+    if sys.isdtime():
+        gamma, fpeak = _attained(sys, gamma, fpeak, wother)
     return float(gamma), float(fpeak)
 
 
@@ -150,6 +156,54 @@ def _hinfnorm_fallback(sys, tol=1e-10):
         gamma, nu = _levelset(A, B, C, D, tol)
         return gamma, 2 * np.arctan(nu) / dt
     return _levelset(A, B, C, D, tol)
+
+
+def _attained(sys, gamma, *freqs):
+    """A discrete system's norm as a gain attained on the unit circle.
+
+    The level set runs on the bilinear image, whose realisation can be far
+    worse conditioned than the system's (a 12-state design: 585,151 on the
+    image against 523,329 at the true peak, which ab13dd missed with
+    500,246).  The candidates' frequencies and a grid over ``[0, π/dt]``
+    are evaluated on the system itself and the largest local maxima
+    polished there; the image's value is kept only where no evaluation
+    contradicts it by more than 1e-6.
+    """
+    A, B, C, D = (np.asarray(M, dtype=float) for M in ct.ssdata(sys))
+    dt = 1.0 if sys.dt is True else float(sys.dt)
+    n = A.shape[0]
+    if n == 0:
+        return gamma, freqs[0]
+
+    def gain(theta):
+        z = np.exp(1j * theta)
+        with warnings.catch_warnings():
+            # an ill-conditioned resolvent is what this step is for
+            warnings.simplefilter('ignore', la.LinAlgWarning)
+            return la.svdvals(C @ la.solve(z * np.eye(n) - A, B) + D)[0]
+
+    grid = np.linspace(0, np.pi, 257)
+    known = [min(abs(w) * dt, np.pi) for w in freqs if np.isfinite(w)]
+    thetas = np.unique(np.concatenate([grid, known]))
+    vals = np.array([gain(t) for t in thetas])
+    best = (vals.max(), thetas[int(np.argmax(vals))])
+    tops = [k for k in range(len(thetas))
+            if vals[k] >= vals[max(k - 1, 0)] and
+            vals[k] >= vals[min(k + 1, len(thetas) - 1)]]
+    from scipy.optimize import minimize_scalar
+    for k in sorted(tops, key=lambda k: vals[k])[-5:]:
+        lo, hi = thetas[max(k - 1, 0)], thetas[min(k + 1, len(thetas) - 1)]
+        if hi > lo:
+            res = minimize_scalar(lambda t: -gain(t), bounds=(lo, hi),
+                                  method='bounded',
+                                  options={'xatol': 1e-13})
+            best = max(best, (-res.fun, float(res.x)))
+    # the claimed value at its own frequency
+    if np.isfinite(freqs[0]):
+        claimed = gain(min(abs(freqs[0]) * dt, np.pi))
+        if claimed >= gamma * (1 - 1e-6):
+            best = max(best, (gamma, min(abs(freqs[0]) * dt, np.pi)))
+    return best[0], best[1] / dt
 
 
 def _bilinear(A, B, C, D):
