@@ -49,7 +49,7 @@ def test_gamma_star_zero(plant):
     so γ* = 0 exactly, with gain 0."""
     single = strict(lambda: cx.hinf_observer(plant))
     pair = strict(lambda: cx.coupled_observer(plant))
-    assert single.report.gamma_opt == 0.0
+    assert single.report.gamma_convex == 0.0
     assert single.hinf == 0.0 and pair.hinf == 0.0
     np.testing.assert_array_equal(single.L, 0.0)
 
@@ -79,7 +79,7 @@ def test_imaginary_axis_modes_are_designed(name):
     assert obs.report.stage == 'riccati'
     # the other convex route, the LMI, gives the infimum γ*
     lmi = cx.hinf_observer(plant, method='lmi', refine=False)
-    gstar = lmi.report.gamma_opt
+    gstar = lmi.report.gamma_convex
     assert gstar * (1 - 1e-6) <= obs.hinf <= 1.03 * gstar
     # T(λ) C v = v for an eigenpair with Re λ >= 0: γ >= |v| / |C v|
     lam, V = np.linalg.eig(A)
@@ -106,8 +106,11 @@ def test_747_with_a_fast_decay_falls_back_to_riccati():
     assert obs.decay >= 1000 - 1e-3
     assert [name for name, _ in obs.report.stats['fallback']] == ['lmi']
     assert obs.report.method == 'shifted riccati'
-    # the route asked for by name still says which step failed
-    with pytest.raises(cx.SolverError, match='stage 1'):
+    # the route asked for by name still says which step failed: the
+    # solver's stage 1, or (where clarabel reports success) the
+    # verification of its gain
+    with pytest.raises((cx.SolverError, cx.VerificationError),
+                       match='stage 1|the lmi design is not stable'):
         cx.hinf_observer(B747, decay=1000.0, method='lmi', refine=False)
 
 
