@@ -8,11 +8,15 @@ say what was expected and what was found; inputs are copied, never
 modified; every check runs before any solver.
 """
 
+from __future__ import annotations
+
 import numbers
+from typing import Any
 
 import numpy as np
 import control as ct
 
+from ._typing import Array
 from .exceptions import (ArgumentError, DimensionError, NotDetectableError,
                          ParameterError, RegionError)
 
@@ -76,6 +80,47 @@ def check_name(name):
     return name
 
 
+def check_system(name=None, inputs=None, outputs=None, states=None):
+    """python-control's system keywords, checked: ``name`` a string;
+    ``inputs``/``outputs``/``states`` None, a count (the default names),
+    a base name (``'w'`` gives ``w[0]``, ``w[1]``, …) or a sequence of
+    distinct names.  Returns them
+    as a dictionary (their counts are checked by :func:`signal_names`)."""
+    check_name(name)
+    for what, spec in (('inputs', inputs), ('outputs', outputs),
+                       ('states', states)):
+        if spec is None or isinstance(spec, str) or (
+                isinstance(spec, numbers.Integral) and
+                not isinstance(spec, bool)):
+            continue
+        if not isinstance(spec, (list, tuple)) or not all(
+                isinstance(label, str) for label in spec):
+            raise ArgumentError(
+                f"{what} must be a count, a base name or a list of signal "
+                f"names "
+                f"(strings); found {type(spec).__name__} {spec!r}")
+        if len(set(spec)) != len(spec):
+            raise ParameterError(f"{what} must be distinct names; found "
+                                 f"{list(spec)}")
+    return dict(name=name, inputs=inputs, outputs=outputs, states=states)
+
+
+def signal_names(spec, default, count, what):
+    """Signal names of a system keyword (see :func:`check_system`):
+    ``default`` (a base name or a list) when ``spec`` is None."""
+    if isinstance(spec, numbers.Integral) and spec != count:
+        raise DimensionError(f"{what}: the error system has {count} "
+                             f"{what}; found {what}={spec}")
+    spec = default if spec is None or isinstance(spec, numbers.Integral) \
+        else spec
+    if isinstance(spec, str):
+        return [f'{spec}[{i}]' for i in range(count)]
+    if len(spec) != count:
+        raise DimensionError(f"{what}: the error system has {count} "
+                             f"{what}; found {len(spec)} names {list(spec)}")
+    return list(spec)
+
+
 def timebase(dt):
     """python-control's timebase: 0 (continuous), True (discrete,
     unspecified step) or a positive step; None counts as continuous."""
@@ -94,7 +139,7 @@ def sample_step(dt):
 
 # -- matrices ---------------------------------------------------------------
 
-def as_array(M, name):
+def as_array(M: Any, name: str) -> Array:
     """A float copy of ``M``; complex values and non-numbers are refused."""
     try:
         arr = np.array(M)
@@ -122,7 +167,8 @@ def check_finite(M, name):
             f"{tuple(int(i) for i in bad)}")
 
 
-def as_matrix(M, name, shape):
+def as_matrix(M: Any, name: str,
+              shape: tuple[int | None, int | None]) -> Array:
     """Return a float copy of ``M`` with the expected ``shape``.
 
     ``shape`` entries may be ``None`` (any size). Scalars and vectors are

@@ -24,12 +24,20 @@ Examples
 0.787
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 from dataclasses import dataclass, field
 
 import numpy as np
 import control as ct
 
 from .synthesis.lmi import decay_certificate
+from ._typing import Array, ArrayLike, ExecutorLike, Plant
+
+if TYPE_CHECKING:
+    from .observers import Observer
 
 __all__ = ['spectral_abscissa', 'log_norm', 'eig_condition', 'ISSEstimate',
            'iss_estimate', 'ConditionCheck', 'check_lemma_3_2',
@@ -37,7 +45,7 @@ __all__ = ['spectral_abscissa', 'log_norm', 'eig_condition', 'ISSEstimate',
            'crossing_time', 'tradeoff_curve']
 
 
-def spectral_abscissa(A):
+def spectral_abscissa(A: ArrayLike) -> float:
     """``α(A) = max Re λ(A)``.
 
     Examples
@@ -49,7 +57,7 @@ def spectral_abscissa(A):
     return float(np.max(np.linalg.eigvals(np.atleast_2d(A)).real))
 
 
-def log_norm(A):
+def log_norm(A: ArrayLike) -> float:
     """Logarithmic 2-norm ``µ(A) = λmax((A + Aᵀ)/2)``.
 
     Examples
@@ -62,7 +70,7 @@ def log_norm(A):
     return float(np.linalg.eigvalsh(0.5 * (A + A.T))[-1])
 
 
-def eig_condition(A):
+def eig_condition(A: ArrayLike) -> float:
     """Upper bound on ``κ(A) = min |X| |X⁻¹|`` over eigenvector matrices.
 
     Returns the condition number of the eigenvector matrix with columns
@@ -91,12 +99,12 @@ class ISSEstimate:
     gain: float
     output_gain: float
 
-    def beta(self, s, t):
+    def beta(self, s: float, t: ArrayLike) -> Array:
         """The class-KL bound ``κ e^{α t} s``."""
         return self.kappa * np.exp(self.rate * np.asarray(t)) * s
 
 
-def iss_estimate(obs):
+def iss_estimate(obs: Observer) -> ISSEstimate:
     """ISS estimate (18) of an observer's error system.
 
     The gains are ``|K̃| / |µ(Ã)|`` and ``|C| |K̃| / |µ(Ã)|``; they are
@@ -139,7 +147,8 @@ def _distinct(A, tol=1e-9):
     return bool(np.min(d) > tol * max(1.0, np.max(np.abs(lam))))
 
 
-def check_lemma_3_2(luenberger, coupled, output=False):
+def check_lemma_3_2(luenberger: Observer, coupled: Observer,
+                    output: bool = False) -> ConditionCheck:
     """Conditions (19)–(22) of Lemma 3.2 (``output=True``: with the output
     maps, as in Theorem 3.5 and (33)).
 
@@ -176,8 +185,9 @@ def check_lemma_3_2(luenberger, coupled, output=False):
                                gain=float(g)))
 
 
-def check_lemma_3_3(luenberger, coupled, alpha0=None, alpha=None,
-                    fraction=0.99):
+def check_lemma_3_3(luenberger: Observer, coupled: Observer,
+                    alpha0: float | None = None, alpha: float | None = None,
+                    fraction: float = 0.99) -> ConditionCheck:
     """Conditions (23)–(26) of Lemma 3.3 with ``P0``, ``P`` found by LMI.
 
     For each observer the rate is taken as ``fraction`` of its decay rate
@@ -216,7 +226,8 @@ def check_lemma_3_3(luenberger, coupled, alpha0=None, alpha=None,
                                kappa0=kappa0, kappa=kappa))
 
 
-def check_theorem_3_5(luenberger, coupled):
+def check_theorem_3_5(luenberger: Observer,
+                      coupled: Observer) -> ConditionCheck:
     """Theorem 3.5: the averaged estimate improves on the Luenberger one if
     (19)–(22) (with the output maps) or (23)–(26) hold.
 
@@ -237,7 +248,7 @@ def check_theorem_3_5(luenberger, coupled):
     return check_lemma_3_3(luenberger, coupled)
 
 
-def steady_state_error(obs, bias):
+def steady_state_error(obs: Observer, bias: ArrayLike) -> Array:
     """Steady-state estimation error under a constant noise ``bias``.
 
     Examples
@@ -254,7 +265,8 @@ def steady_state_error(obs, bias):
         @ bias
 
 
-def crossing_time(luenberger, coupled, e0, bias, T=None):
+def crossing_time(luenberger: Observer, coupled: Observer, e0: ArrayLike,
+                  bias: ArrayLike, T: ArrayLike | None = None) -> float:
     """``t⋆``: from then on the coupled error stays below the Luenberger one.
 
     Simulates both error systems from initial estimation error ``e0`` (in
@@ -276,6 +288,8 @@ def crossing_time(luenberger, coupled, e0, bias, T=None):
     if T is None:
         slow = min(luenberger.decay, coupled.decay)
         T = np.linspace(0, 20 / max(slow, 1e-3), 20001)
+    T = np.asarray(T, dtype=float)
+    bias = np.asarray(bias, dtype=float)
     u0 = np.outer(np.ones(luenberger.ninputs) * bias, np.ones(len(T)))
     r0 = ct.forced_response(luenberger, T, u0, X0=e0)
     r = ct.forced_response(coupled, T, np.outer(
@@ -287,8 +301,10 @@ def crossing_time(luenberger, coupled, e0, bias, T=None):
     return float(T[worse[-1]]) if worse.size else 0.0
 
 
-def tradeoff_curve(plant, decays, copies=(1, 2, 3), executor=None,
-                   **kwargs):
+def tradeoff_curve(plant: Plant, decays: ArrayLike,
+                   copies: Sequence[int] = (1, 2, 3),
+                   executor: ExecutorLike = None, **kwargs: Any) -> dict[str,
+                   Any]:
     """Best H∞ norm against required decay for several numbers of copies.
 
     Returns ``{'decay': array, N: array of γ, ...}`` (data; plot it with
@@ -312,7 +328,7 @@ def tradeoff_curve(plant, decays, copies=(1, 2, 3), executor=None,
             for sigma in decays]
     values = list(executor.map(_tradeoff_point, jobs) if executor
                   else map(_tradeoff_point, jobs))
-    out = {'decay': decays}
+    out: dict[Any, Array] = {'decay': np.asarray(decays, dtype=float)}
     for k, N in enumerate(copies):
         out[N] = np.array(values[k * len(decays):(k + 1) * len(decays)])
     return out

@@ -16,6 +16,9 @@ Examples
 True
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ._checks import as_matrix, as_plant, check_copies
@@ -23,6 +26,11 @@ from .exceptions import DimensionError, ParameterError
 from .observers import Observer
 from .synthesis import SynthesisOptions, plant_problem
 from .synthesis.pipeline import design
+from ._typing import Array, ArrayLike, ExecutorLike, Names, Plant
+
+if TYPE_CHECKING:
+    from .synthesis import RefineOptions, Region
+    from .synthesis.verify import DesignReport
 
 __all__ = ['CoupledObserver', 'coupled_observer']
 
@@ -47,6 +55,9 @@ class CoupledObserver(Observer):
         Noise model (see :class:`LuenbergerObserver`).
     name : str, optional
         System name.
+    inputs, outputs, states : str or list of str, optional
+        Signal names of the error system (python-control's system
+        keywords; see :class:`~controlext.Observer`).
 
     Examples
     --------
@@ -59,8 +70,12 @@ class CoupledObserver(Observer):
     0.4953
     """
 
-    def __init__(self, plant, Mu, weights=None, Bw=None, Dw=None, Cz=None,
-                 name=None, report=None):
+    def __init__(self, plant: Plant, Mu: ArrayLike,
+                 weights: ArrayLike | None = None, Bw: ArrayLike | None = None,
+                 Dw: ArrayLike | None = None, Cz: ArrayLike | None = None,
+                 name: str | None = None, report: DesignReport | None = None,
+                 *, inputs: Names = None, outputs: Names = None,
+                 states: Names = None) -> None:
         one = plant_problem(plant, Bw, Dw, Cz)
         n, p = one.n, one.p
         Mu = as_matrix(Mu, 'Mu', (None, None))
@@ -74,10 +89,13 @@ class CoupledObserver(Observer):
                 "a coupled observer needs at least 2 copies; found Mu of "
                 f"shape {Mu.shape}, i.e. 1 copy: use LuenbergerObserver")
         problem = one.replace(copies=N, weights=weights)
-        super().__init__(problem, Mu, report=report, name=name)
+        super().__init__(problem, Mu, report=report, name=name,
+                         inputs=inputs, outputs=outputs, states=states)
 
     @classmethod
-    def from_pair(cls, plant, K1, K2, L1, L2, **kwargs):
+    def from_pair(cls, plant: Plant, K1: ArrayLike, K2: ArrayLike,
+                  L1: ArrayLike, L2: ArrayLike,
+                  **kwargs: Any) -> CoupledObserver:
         """Coupled pair from the paper's gains ``K1, K2, L1, L2`` (16)."""
         A, B, C, D, dt = as_plant(plant)
         n, p = A.shape[0], C.shape[0]
@@ -86,7 +104,7 @@ class CoupledObserver(Observer):
         return cls(plant, np.block([[K1, L1], [L2, K2]]), **kwargs)
 
     @property
-    def Mu(self):
+    def Mu(self) -> Array:
         """The coupled gain ``(N n × N p)``."""
         return self.G
 
@@ -98,19 +116,43 @@ class CoupledObserver(Observer):
         n, p = self.problem.n, self.problem.p
         return self.G[i * n:(i + 1) * n, j * p:(j + 1) * p]
 
-    K1 = property(lambda self: self._block(0, 0, 'K1'), doc="Gain K1.")
-    K2 = property(lambda self: self._block(1, 1, 'K2'), doc="Gain K2.")
-    L1 = property(lambda self: self._block(0, 1, 'L1'),
-                  doc="Coupling gain L1 (copy 1 from copy 2's output).")
-    L2 = property(lambda self: self._block(1, 0, 'L2'),
-                  doc="Coupling gain L2 (copy 2 from copy 1's output).")
+    @property
+    def K1(self) -> Array:
+        """Gain K1."""
+        return self._block(0, 0, 'K1')
+
+    @property
+    def K2(self) -> Array:
+        """Gain K2."""
+        return self._block(1, 1, 'K2')
+
+    @property
+    def L1(self) -> Array:
+        """Coupling gain L1 (copy 1 from copy 2's output)."""
+        return self._block(0, 1, 'L1')
+
+    @property
+    def L2(self) -> Array:
+        """Coupling gain L2 (copy 2 from copy 1's output)."""
+        return self._block(1, 0, 'L2')
 
 
-def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
-                     Dw=None, Cz=None, *, region=None, method='auto',
-                     refine=True, margin=1.02, solver=None,
-                     solver_options=None, seed=0, refine_options=None,
-                     executor=None, options=None, name=None):
+
+def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
+                     weights: ArrayLike | None = None,
+                     Bw: ArrayLike | None = None, Dw: ArrayLike | None = None,
+                     Cz: ArrayLike | None = None, *,
+                     region: Region | None = None, method: str = 'auto',
+                     refine: bool = True, margin: float = 1.02,
+                     solver: str | None = None,
+                     solver_options: dict[str, Any] | None = None,
+                     seed: int = 0,
+                     refine_options: RefineOptions | dict[str, Any] | None = None,
+                     executor: ExecutorLike = None,
+                     options: SynthesisOptions | None = None,
+                     name: str | None = None, inputs: Names = None,
+                     outputs: Names = None,
+                     states: Names = None) -> CoupledObserver:
     """Coupled Luenberger observers minimising the H∞ norm (Li & Sanfelice).
 
     A convex stage gives a certified design; refinement then minimises the
@@ -179,4 +221,5 @@ def coupled_observer(plant, decay=None, copies=2, weights=None, Bw=None,
     problem = plant_problem(plant, Bw, Dw, Cz, copies=check_copies(copies, 2),
                             weights=weights)
     return design(CoupledObserver, problem, options, decay=decay,
-                  region=region, name=name)
+                  region=region, system=dict(name=name, inputs=inputs,
+                                             outputs=outputs, states=states))

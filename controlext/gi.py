@@ -44,6 +44,9 @@ Examples
 1
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
 import warnings
 
 import numpy as np
@@ -55,12 +58,17 @@ from .observers import Observer
 from .synthesis import ObserverProblem, SynthesisOptions
 from .synthesis.problem import signals_of
 from .synthesis.pipeline import design
+from ._typing import Array, ArrayLike, ExecutorLike, Names, Plant
+
+if TYPE_CHECKING:
+    from .synthesis import RefineOptions, Region
+    from .synthesis.verify import DesignReport
 
 __all__ = ['GIObserver', 'gi_observer', 'range_basis', 'projection',
            'gi_problem']
 
 
-def range_basis(C, tol=1e-10):
+def range_basis(C: ArrayLike, tol: float = 1e-10) -> Array:
     """Orthonormal basis ``U`` of ``range(C)`` (``p × r``).
 
     Examples
@@ -75,7 +83,7 @@ def range_basis(C, tol=1e-10):
     return U[:, :r]
 
 
-def projection(C):
+def projection(C: ArrayLike) -> Array:
     """``Π = I − C C⁺``: projection onto the complement of ``range(C)``.
 
     Examples
@@ -88,7 +96,9 @@ def projection(C):
     return np.eye(U.shape[0]) - U @ U.T
 
 
-def gi_problem(plant, Bw, augmented=False, copies=1, weights=None):
+def gi_problem(plant: Plant, Bw: ArrayLike, augmented: bool = False,
+               copies: int = 1,
+               weights: ArrayLike | None = None) -> ObserverProblem:
     """The generalised plant of the (augmented, coupled) GI observer.
 
     Examples
@@ -153,6 +163,9 @@ class GIObserver(Observer):
         Output weights of the copies.
     name : str, optional
         System name.
+    inputs, outputs, states : str or list of str, optional
+        Signal names of the error system (python-control's system
+        keywords; see :class:`~controlext.Observer`).
     copies : int, optional
         Number of coupled copies.
 
@@ -180,8 +193,12 @@ class GIObserver(Observer):
     True
     """
 
-    def __init__(self, plant, L, Bw, augmented=False, Lw=None, weights=None,
-                 name=None, report=None, copies=1):
+    def __init__(self, plant: Plant, L: ArrayLike, Bw: ArrayLike,
+                 augmented: bool = False, Lw: ArrayLike | None = None,
+                 weights: ArrayLike | None = None, name: str | None = None,
+                 report: DesignReport | None = None, copies: int = 1, *,
+                 inputs: Names = None, outputs: Names = None,
+                 states: Names = None) -> None:
         copies = check_copies(copies)
         problem = gi_problem(plant, Bw, augmented, copies, weights)
         n, p, N = problem.nx, problem.p, copies
@@ -203,27 +220,42 @@ class GIObserver(Observer):
                                     "observer (augmented=True)")
             G = L
         _warn_if_classic(problem)
-        super().__init__(problem, G, report=report, name=name)
-
-    Pi = property(lambda self: np.eye(self.problem.p) - self.problem.measure,
-                  doc="The projection Π onto the complement of range(C).")
-    U = property(lambda self: range_basis(self.problem.C[:, :self.problem.nx]),
-                 doc="Orthonormal basis of range(C).")
-    augmented = property(lambda self: self.problem.n > self.problem.nx,
-                         doc="Does the observer estimate the disturbance?")
-    invariant_directions = property(
-        lambda self: int(round(np.trace(self.Pi))),
-        doc="rank Π: disturbance directions the observer is blind to.")
-    gi_Bw = property(lambda self: self.problem.plant_Bw.copy(),
-                     doc="The plant's disturbance input matrix Bw.")
+        super().__init__(problem, G, report=report, name=name,
+                         inputs=inputs, outputs=outputs, states=states)
 
     @property
-    def L(self):
+    def Pi(self) -> Array:
+        """The projection Π onto the complement of range(C)."""
+        return np.eye(self.problem.p) - self.problem.measure
+
+    @property
+    def U(self) -> Array:
+        """Orthonormal basis of range(C)."""
+        return range_basis(self.problem.C[:, :self.problem.nx])
+
+    @property
+    def augmented(self) -> bool:
+        """Does the observer estimate the disturbance?"""
+        return self.problem.n > self.problem.nx
+
+    @property
+    def invariant_directions(self) -> int:
+        """rank Π: disturbance directions the observer is blind to."""
+        return int(round(np.trace(self.Pi)))
+
+    @property
+    def gi_Bw(self) -> Array:
+        """The plant's disturbance input matrix Bw."""
+        return self.problem.plant_Bw.copy()
+
+
+    @property
+    def L(self) -> Array:
         """State gain ``L``."""
         return self.G[_rows(self.problem)[:, :self.problem.nx].ravel()]
 
     @property
-    def Lw(self):
+    def Lw(self) -> Array | None:
         """Disturbance-estimate gain ``Lw`` (augmented form), else None."""
         if not self.augmented:
             return None
@@ -243,11 +275,17 @@ def _warn_if_classic(problem, stacklevel=3):
                       stacklevel=stacklevel)
 
 
-def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
-                weights=None, region=None, method='auto', refine=True,
-                margin=1.02, solver=None, solver_options=None, seed=0,
-                refine_options=None, executor=None, options=None,
-                  name=None):
+def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
+                augmented: bool = False, copies: int = 1, *,
+                weights: ArrayLike | None = None, region: Region | None = None,
+                method: str = 'auto', refine: bool = True,
+                margin: float = 1.02, solver: str | None = None,
+                solver_options: dict[str, Any] | None = None, seed: int = 0,
+                refine_options: RefineOptions | dict[str, Any] | None = None,
+                executor: ExecutorLike = None,
+                options: SynthesisOptions | None = None,
+                name: str | None = None, inputs: Names = None,
+                outputs: Names = None, states: Names = None) -> GIObserver:
     """H∞-optimal GI observer (optionally augmented, optionally coupled).
 
     Parameters
@@ -265,6 +303,8 @@ def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
     weights, region, method, refine, margin, solver, solver_options
         As for :func:`controlext.coupled_observer`.
     seed, refine_options, executor, options, name
+        As for :func:`controlext.coupled_observer`.
+    inputs, outputs, states
         As for :func:`controlext.coupled_observer`.
 
     The same synthesis pipeline as every other observer: convex stage,
@@ -296,6 +336,7 @@ def gi_observer(plant, Bw, decay=None, augmented=False, copies=1, *,
     what = ("augmented plant (A, C) with the disturbance states "
             "[[A, Bw U], [0, Λ]], [C, U]") if augmented else "plant"
     obs = design(GIObserver, problem, options, decay=decay, region=region,
-                 name=name, what=what)
+                 system=dict(name=name, inputs=inputs, outputs=outputs,
+                             states=states), what=what)
     _warn_if_classic(problem)
     return obs

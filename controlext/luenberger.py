@@ -16,11 +16,15 @@ Examples
 (True, True)
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
 import time
 
 import numpy as np
 
-from ._checks import as_matrix, check_name, format_mode, unobservable_modes
+from ._checks import (as_matrix, check_system, format_mode,
+                      unobservable_modes)
 from .exceptions import (ArgumentError, DimensionError, ParameterError,
                          RegionError, VerificationError)
 from .observers import Observer
@@ -28,6 +32,11 @@ from .synthesis import SynthesisOptions, plant_problem
 from .synthesis.pipeline import design
 from .synthesis.placement import place_gain, placement_error
 from .synthesis.verify import verify_design
+from ._typing import Array, ArrayLike, ExecutorLike, Names, Plant
+
+if TYPE_CHECKING:
+    from .synthesis import RefineOptions, Region
+    from .synthesis.verify import DesignReport
 
 __all__ = ['LuenbergerObserver', 'luenberger_observer', 'hinf_observer']
 
@@ -50,6 +59,9 @@ class LuenbergerObserver(Observer):
         (measurement noise, full-state estimate).
     name : str, optional
         System name.
+    inputs, outputs, states : str or list of str, optional
+        Signal names of the error system (python-control's system
+        keywords; see :class:`~controlext.Observer`).
 
     Examples
     --------
@@ -61,19 +73,28 @@ class LuenbergerObserver(Observer):
     (0.4859, 1.0)
     """
 
-    def __init__(self, plant, L, Bw=None, Dw=None, Cz=None, name=None,
-                 report=None):
+    def __init__(self, plant: Plant, L: ArrayLike, Bw: ArrayLike | None = None,
+                 Dw: ArrayLike | None = None, Cz: ArrayLike | None = None,
+                 name: str | None = None, report: DesignReport | None = None,
+                 *, inputs: Names = None, outputs: Names = None,
+                 states: Names = None) -> None:
         problem = plant_problem(plant, Bw, Dw, Cz)
         L = as_matrix(L, 'L', (problem.n, problem.p))
-        super().__init__(problem, L, report=report, name=name)
+        super().__init__(problem, L, report=report, name=name,
+                         inputs=inputs, outputs=outputs, states=states)
 
     @property
-    def L(self):
+    def L(self) -> Array:
         """The observer gain ``L`` (``n × p``)."""
         return self.G
 
 
-def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
+def luenberger_observer(plant: Plant, poles: ArrayLike,
+                        Bw: ArrayLike | None = None,
+                        Dw: ArrayLike | None = None,
+                        Cz: ArrayLike | None = None, name: str | None = None,
+                        *, inputs: Names = None, outputs: Names = None,
+                        states: Names = None) -> LuenbergerObserver:
     """Luenberger observer with error poles placed at ``poles``.
 
     Repeated poles are placed too (up to the multiplicity the number of
@@ -89,6 +110,9 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
         Noise model (see :class:`LuenbergerObserver`).
     name : str, optional
         System name.
+    inputs, outputs, states : str or list of str, optional
+        Signal names of the error system (python-control's system
+        keywords; see :class:`~controlext.Observer`).
 
     Returns
     -------
@@ -104,8 +128,9 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
     (2.0, 0.8)
     """
     start = time.perf_counter()
-    check_name(name)
+    system = check_system(name, inputs, outputs, states)
     problem = plant_problem(plant, Bw, Dw, Cz)
+    problem.error_signals(inputs, outputs, states)
     A, C, dt = problem.A, problem.C, problem.dt
     try:
         poles = np.array(poles, dtype=complex).ravel()
@@ -136,14 +161,21 @@ def luenberger_observer(plant, poles, Bw=None, Dw=None, Cz=None, name=None):
     report = verify_design(problem, L, method='placement', check=False,
                            time=time.perf_counter() - start)
     return LuenbergerObserver.from_problem(problem, L, report=report,
-                                           name=name)
+                                           **system)
 
 
-def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
-                  region=None, method='auto', refine=True, margin=1.02,
-                  solver=None, solver_options=None, seed=0,
-                  refine_options=None, executor=None, options=None,
-                  name=None):
+def hinf_observer(plant: Plant, decay: float | None = None,
+                  Bw: ArrayLike | None = None, Dw: ArrayLike | None = None,
+                  Cz: ArrayLike | None = None, *, region: Region | None = None,
+                  method: str = 'auto', refine: bool = True,
+                  margin: float = 1.02, solver: str | None = None,
+                  solver_options: dict[str, Any] | None = None, seed: int = 0,
+                  refine_options: RefineOptions | dict[str, Any] | None = None,
+                  executor: ExecutorLike = None,
+                  options: SynthesisOptions | None = None,
+                  name: str | None = None, inputs: Names = None,
+                  outputs: Names = None,
+                  states: Names = None) -> LuenbergerObserver:
     """H∞-optimal Luenberger observer, optionally with a decay constraint.
 
     Minimises the H∞ norm from noise ``w`` to estimation error
@@ -200,13 +232,16 @@ def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
         defaults.
     name : str, optional
         System name.
+    inputs, outputs, states : str or list of str, optional
+        Signal names of the error system (python-control's system
+        keywords; see :class:`~controlext.Observer`).
 
     Every option is checked before any solver runs.
 
     Returns
     -------
     LuenbergerObserver
-        With ``report.gamma_opt = γ*`` and ``report.hinf`` the true norm.
+        With ``report.gamma_convex = γ*`` and ``report.hinf`` the true norm.
 
     Examples
     --------
@@ -223,4 +258,5 @@ def hinf_observer(plant, decay=None, Bw=None, Dw=None, Cz=None, *,
         refine_options=refine_options, executor=executor)
     problem = plant_problem(plant, Bw, Dw, Cz)
     return design(LuenbergerObserver, problem, options, decay=decay,
-                  region=region, name=name)
+                  region=region, system=dict(name=name, inputs=inputs,
+                                             outputs=outputs, states=states))

@@ -28,12 +28,19 @@ Examples
 (0.8, 2.5)
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
 from dataclasses import dataclass
 
 import numpy as np
 
 from ._checks import as_array, check_choice, check_finite
 from .exceptions import ArgumentError, DimensionError
+from ._typing import ArrayLike, ExecutorLike
+
+if TYPE_CHECKING:
+    from .observers import Observer
 
 __all__ = ['DesignMap', 'design_map']
 
@@ -50,8 +57,10 @@ class DesignMap:
     yentry: tuple
 
 
-def design_map(obs, xentry, xvalues, yentry, yvalues, method='auto',
-               executor=None):
+def design_map(obs: Observer, xentry: tuple[int, ...], xvalues: ArrayLike,
+               yentry: tuple[int, ...], yvalues: ArrayLike,
+               method: str = 'auto',
+               executor: ExecutorLike = None) -> DesignMap:
     """H∞ norm and decay rate over a grid of two gain entries.
 
     Parameters

@@ -25,6 +25,10 @@ True
 (['y[0]', 'u[0]'], ['yhat[0]', 'xhat[0]', 'xhat[1]'])
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 import numpy as np
 import control as ct
 
@@ -34,6 +38,10 @@ from .luenberger import LuenbergerObserver, hinf_observer, \
     luenberger_observer
 from .norms import hinfnorm
 from .simulate import simulate
+from ._typing import Array, ArrayLike, Plant
+
+if TYPE_CHECKING:
+    from .observers import Observer
 
 __all__ = ['hinfnorm', 'luenobs', 'hinfobs', 'coupledobs', 'giobs',
            'obsim', 'estim']
@@ -49,7 +57,7 @@ coupledobs = coupled_observer
 giobs = gi_observer
 
 
-def estim(sys, L):
+def estim(sys: Plant, L: ArrayLike) -> ct.StateSpace:
     """``est = estim(sys, L)``: the estimator of gain ``L`` for ``sys``.
 
     As MATLAB's ``estim`` with all inputs known: inputs ``[y; u]``,
@@ -74,7 +82,8 @@ def estim(sys, L):
                  list(est.output_labels), states=est.state_labels)
 
 
-def obsim(sys, observers, t, *args, **kwargs):
+def obsim(sys: Plant, observers: Observer | Sequence[Observer], t: ArrayLike,
+          *args: Any, **kwargs: Any) -> tuple[Array, Array, Array]:
     """``[y, t, x] = obsim(sys, observers, t, ...)``: simulate a plant and
     its observers (:func:`controlext.simulate`) and return as ``lsim``
     does: ``y`` (time × outputs: the state, each estimate, each error),

@@ -31,11 +31,19 @@ Examples
 (0.8, [-2.5])
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Self
 import numpy as np
 import control as ct
 
-from ._checks import check_name
+from ._checks import check_name, check_system
 from .synthesis.verify import verify_design
+from ._typing import Array, ArrayLike, Names
+
+if TYPE_CHECKING:
+    from .synthesis import ObserverProblem
+    from .synthesis.verify import DesignReport
 
 __all__ = ['Observer']
 
@@ -54,33 +62,43 @@ class Observer(ct.StateSpace):
         Design report; computed (method ``'given'``) when omitted.
     name : str, optional
         System name.
+    inputs, outputs, states : str or list of str, optional
+        Signal names of the error system (python-control's system
+        keywords): a base name or one name per signal.  Defaults: noise
+        ``w[i]``, weighted error ``ebar[i]``, errors ``e[i]`` (``e<k>[i]``
+        for copy ``k``).
 
     Subclasses give the user-facing constructors (from the plant and the
     gains) and build their problem; factories build the object from the
     problem they designed on with :meth:`from_problem`.
     """
 
-    def __init__(self, problem, G, report=None, name=None):
-        check_name(name)
+    def __init__(self, problem: ObserverProblem, G: ArrayLike,
+                 report: DesignReport | None = None, name: str | None = None,
+                 *, inputs: Names = None, outputs: Names = None,
+                 states: Names = None) -> None:
+        check_system(name, inputs, outputs, states)
+        signals = problem.error_signals(inputs, outputs, states)
         self.problem = problem
         self._G = np.array(G, dtype=float)
         self._G.setflags(write=False)
-        N, n = problem.copies, problem.n
         Acl, Bcl, Ccl, Dcl = problem.error_system(self._G)
-        states = [f'e[{i}]' for i in range(n)] if N == 1 else \
-            [f'e{k + 1}[{i}]' for k in range(N) for i in range(n)]
         super().__init__(Acl, Bcl, Ccl, Dcl, problem.dt, name=name,
-                         inputs=_labels('w', problem.q),
-                         outputs=_labels('ebar', problem.nz), states=states)
+                         **signals)
         if report is None:
             report = verify_design(problem, self._G, check=False)
         self.report = report
 
     @classmethod
-    def from_problem(cls, problem, G, report=None, name=None):
-        """The observer of gain ``G`` designed on ``problem``."""
+    def from_problem(cls, problem: ObserverProblem, G: ArrayLike,
+                     report: DesignReport | None = None,
+                     name: str | None = None, **signals: Names) -> Self:
+        """The observer of gain ``G`` designed on ``problem``
+        (``signals``: the system keywords ``inputs``, ``outputs``,
+        ``states``)."""
         obs = cls.__new__(cls)
-        Observer.__init__(obs, problem, G, report=report, name=name)
+        Observer.__init__(obs, problem, G, report=report, name=name,
+                          **signals)
         return obs
 
     # a readable design ---------------------------------------------------
@@ -135,7 +153,7 @@ class Observer(ct.StateSpace):
             self.C @ np.atleast_1d(x) + self.D @ np.atleast_1d(u)
 
     @property
-    def plant(self):
+    def plant(self) -> ct.StateSpace:
         """The plant (a new ``control.StateSpace`` at each access)."""
         prob, n = self.problem, self.problem.nx
         sig = prob.signals
@@ -146,24 +164,49 @@ class Observer(ct.StateSpace):
                      states=sig.get('states', n))
 
     # noise model and results -------------------------------------------
-    G = property(lambda self: self._G.copy(),
-                 doc="The coupled gain (a copy).")
-    Bw = property(lambda self: self.problem.Bw.copy(),
-                  doc="Noise input matrix of the error system (a copy).")
-    Dw = property(lambda self: self.problem.Dw.copy(),
-                  doc="Noise feedthrough of the error system (a copy).")
-    Cz = property(lambda self: self.problem.Cz.copy(),
-                  doc="Estimated output map (a copy).")
-    copies = property(lambda self: self.problem.copies,
-                      doc="Number of coupled observer copies.")
-    weights = property(lambda self: self.problem.weights.copy(),
-                       doc="Output weights of the copies.")
-    hinf = property(lambda self: self.report.hinf,
-                    doc="True H∞ norm of the error system.")
-    decay = property(lambda self: self.report.decay,
-                     doc="Rate of convergence of the error.")
+    @property
+    def G(self) -> Array:
+        """The coupled gain (a copy)."""
+        return self._G.copy()
 
-    def estimator(self, name=None, copy_outputs=False, disturbance=False):
+    @property
+    def Bw(self) -> Array:
+        """Noise input matrix of the error system (a copy)."""
+        return self.problem.Bw.copy()
+
+    @property
+    def Dw(self) -> Array:
+        """Noise feedthrough of the error system (a copy)."""
+        return self.problem.Dw.copy()
+
+    @property
+    def Cz(self) -> Array:
+        """Estimated output map (a copy)."""
+        return self.problem.Cz.copy()
+
+    @property
+    def copies(self) -> int:
+        """Number of coupled observer copies."""
+        return self.problem.copies
+
+    @property
+    def weights(self) -> Array:
+        """Output weights of the copies."""
+        return self.problem.weights.copy()
+
+    @property
+    def hinf(self) -> float:
+        """True H∞ norm of the error system."""
+        return self.report.hinf
+
+    @property
+    def decay(self) -> float:
+        """Rate of convergence of the error."""
+        return self.report.decay
+
+
+    def estimator(self, name: str | None = None, copy_outputs: bool = False,
+                  disturbance: bool = False) -> ct.StateSpace:
         """The runnable observer: inputs ``[y; u]``, output ``x̂``.
 
         The inputs carry the plant's own output and input labels, so

@@ -18,8 +18,18 @@ Examples
 (1, 1)
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 import numpy as np
 import control as ct
+from ._typing import Array, ArrayLike
+
+if TYPE_CHECKING:
+    from .maps import DesignMap
+    from .observers import Observer
+    from .synthesis import Region
 
 __all__ = ['error_plot', 'estimate_plot', 'tradeoff_plot',
            'design_map_plot', 'pole_region_plot']
@@ -49,7 +59,9 @@ def _observer_count(resp):
                lb.endswith('[0]'))
 
 
-def error_plot(resp, labels=None, norm=True, ax=None, title=None):
+def error_plot(resp: ct.TimeResponseData, labels: Sequence[str] | None = None,
+               norm: bool = True, ax: Any = None,
+               title: str | None = None) -> Any:
     """Estimation errors of a :func:`controlext.simulate` response.
 
     Parameters
@@ -104,7 +116,9 @@ def error_plot(resp, labels=None, norm=True, ax=None, title=None):
                           legend=legend)
 
 
-def estimate_plot(resp, labels=None, state=0, ax=None, title=None):
+def estimate_plot(resp: ct.TimeResponseData,
+                  labels: Sequence[str] | None = None, state: int = 0,
+                  ax: Any = None, title: str | None = None) -> Any:
     """True state and each observer's estimate of one state component.
 
     Examples
@@ -139,7 +153,8 @@ def estimate_plot(resp, labels=None, state=0, ax=None, title=None):
                           legend=legend)
 
 
-def tradeoff_plot(curve, ax=None, title=None):
+def tradeoff_plot(curve: dict[Any, Array], ax: Any = None,
+                  title: str | None = None) -> Any:
     """γ against required decay, one line per number of copies.
 
     ``curve`` is the dictionary of :func:`controlext.tradeoff_curve`.
@@ -170,8 +185,10 @@ def tradeoff_plot(curve, ax=None, title=None):
                           legend=legend)
 
 
-def design_map_plot(dmap, required_decay=None, max_gamma=None, ax=None,
-                    labels=('ℓ1', 'ℓ2'), title=None):
+def design_map_plot(dmap: DesignMap, required_decay: float | None = None,
+                    max_gamma: float | None = None, ax: Any = None,
+                    labels: tuple[str, str] = ('ℓ1', 'ℓ2'),
+                    title: str | None = None) -> Any:
     """Heat maps of γ and of the decay rate over a design map.
 
     Draws two panels (γ, decay); with ``required_decay`` the contour
@@ -219,8 +236,10 @@ def design_map_plot(dmap, required_decay=None, max_gamma=None, ax=None,
     return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig)
 
 
-def pole_region_plot(obs_or_poles, region=None, ax=None, extent=None,
-                     title=None, dt=None):
+def pole_region_plot(obs_or_poles: Observer | ArrayLike,
+                     region: Region | None = None, ax: Any = None,
+                     extent: tuple[float, float, float, float] | None = None, title: str | None = None,
+                     dt: float | bool | None = None) -> Any:
     """Error poles with the requested region shaded.
 
     Parameters
@@ -245,7 +264,8 @@ def pole_region_plot(obs_or_poles, region=None, ax=None, extent=None,
     a = ax[0, 0]
     if isinstance(obs_or_poles, Observer):
         poles = ct.poles(obs_or_poles)
-        region = region if region is not None else obs_or_poles.report.region
+        if region is None:
+            region = obs_or_poles.report.region
         dt = obs_or_poles.dt
     else:
         poles = np.atleast_1d(np.asarray(obs_or_poles, dtype=complex))

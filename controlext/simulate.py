@@ -22,12 +22,20 @@ Examples
 0.24
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 import numpy as np
 import scipy.linalg as la
 import control as ct
 
 from ._checks import as_matrix, as_plant
 from .exceptions import ArgumentError
+from ._typing import ArrayLike, Plant
+
+if TYPE_CHECKING:
+    from .observers import Observer
 
 __all__ = ['simulate']
 
@@ -38,9 +46,12 @@ _ALIASES = {'T': 'timepts', 'U': 'inputs', 'u': 'inputs', 'w': 'noise',
             'xhat0': 'initial_estimate'}
 
 
-def simulate(plant, observers, timepts=None, inputs=0.0, noise=0.0,
-             initial_state=0.0, initial_estimate=None, Bw=None, Dw=None,
-             **legacy):
+def simulate(plant: Plant, observers: Observer | Sequence[Observer],
+             timepts: ArrayLike | None = None, inputs: ArrayLike = 0.0,
+             noise: ArrayLike = 0.0, initial_state: ArrayLike = 0.0,
+             initial_estimate: ArrayLike | None = None,
+             Bw: ArrayLike | None = None, Dw: ArrayLike | None = None,
+             **legacy: Any) -> ct.TimeResponseData:
     """Simulate the plant and its observers on the time grid ``timepts``.
 
     python-control's names are used (``timepts``, ``inputs``,
@@ -103,20 +114,20 @@ def simulate(plant, observers, timepts=None, inputs=0.0, noise=0.0,
         raise ArgumentError("simulate needs timepts (the time grid)")
     T, u, w = given['timepts'], given['inputs'], given['noise']
     x0, xhat0 = given['initial_state'], given['initial_estimate']
-    if not isinstance(observers, (list, tuple)):
-        observers = [observers]
+    group: list[Observer] = list(observers) if isinstance(
+        observers, (list, tuple)) else [observers]  # type: ignore[list-item]
     from .observers import Observer
-    if not observers or not all(isinstance(o, Observer) for o in observers):
+    if not group or not all(isinstance(o, Observer) for o in group):
         raise ArgumentError("observers must be controlext observers")
     A, B, C, D, dt = as_plant(plant)
     n, m, p = A.shape[0], B.shape[1], C.shape[0]
-    for obs in observers:
+    for obs in group:
         if obs.problem.dt != dt:
             raise ArgumentError(
                 f"observer {obs.name!r} has timebase dt = {obs.problem.dt} "
                 f"but the plant has dt = {dt}: an observer runs at its "
                 "plant's sampling time (continuous: 0)")
-    first = observers[0]
+    first = group[0]
     if Bw is None:
         Bw = first.problem.plant_Bw
         if Dw is None:
@@ -125,7 +136,7 @@ def simulate(plant, observers, timepts=None, inputs=0.0, noise=0.0,
     q = Bw.shape[1]
     Dw = np.eye(p, q) if Dw is None else as_matrix(Dw, 'Dw', (p, q))
     T = np.asarray(T, dtype=float)
-    ests = [o.estimator() for o in observers]
+    ests = [o.estimator() for o in group]
     for est in ests:
         if est.ninputs != m + p or est.noutputs != n:
             raise ArgumentError("an observer does not match the plant's "
@@ -169,7 +180,7 @@ def simulate(plant, observers, timepts=None, inputs=0.0, noise=0.0,
     X0 = [np.broadcast_to(np.asarray(x0, dtype=float), (n,))]
     xh = np.zeros(n) if xhat0 is None else \
         np.broadcast_to(np.asarray(xhat0, dtype=float), (n,))
-    for obs in observers:
+    for obs in group:
         # every copy starts at xhat0, disturbance estimates at 0
         init = np.zeros((obs.copies, obs.problem.n))
         init[:, :n] = xh

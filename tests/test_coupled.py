@@ -169,7 +169,7 @@ def test_report_says_which_stage(designs):
     rep = designs[('second', 2)].report
     assert rep.method == 'embedded lmi+refine'     # the one-copy LMI
     assert rep.stage in ('refined', 'luenberger')
-    assert rep.gamma_opt == pytest.approx(0.45, abs=0.01)     # conservative
+    assert rep.gamma_convex == pytest.approx(0.45, abs=0.01)     # conservative
     assert rep.stats['refine']['evaluations'] > 0
 
 
@@ -178,7 +178,7 @@ def test_refine_false_returns_the_convex_design(scalar_plant):
                               method='lmi')
     assert obs.report.stage == 'lmi'
     # Theorem 3.10 alone is no better than Luenberger (γ0 = 0.8)
-    assert obs.report.gamma_opt == pytest.approx(0.8, abs=1e-3)
+    assert obs.report.gamma_convex == pytest.approx(0.8, abs=1e-3)
     assert obs.hinf <= obs.report.gamma_bound * (1 + 1e-5)
 
 
@@ -191,7 +191,7 @@ def test_embedded_convex_stage_never_worse_than_theorem_3_10(
     lmi = cx.coupled_observer(plant, decay=sigma, refine=False,
                               method='lmi')
     # the embedded Luenberger LMI certifies the same level as Theorem 3.10
-    assert auto.report.gamma_opt <= lmi.report.gamma_opt * (1 + 1e-6)
+    assert auto.report.gamma_convex <= lmi.report.gamma_convex * (1 + 1e-6)
     assert auto.hinf <= auto.report.gamma_bound * (1 + 1e-5)
     assert np.max(ct.poles(auto).real) <= -sigma + 1e-6
     # it is K_i = L0, L_i = 0: the coupling blocks are zero

@@ -77,7 +77,7 @@ def test_unconstrained_equals_riccati_optimum(plant, Bw, Dw, method):
     prob = ObserverProblem(plant.A, plant.C, Bw, Dw)
     gstar = riccati_level(prob.A, prob.C, prob.Bw, prob.Dw, prob.Cz)
     obs = cx.hinf_observer(plant, Bw=Bw, Dw=Dw, method=method)
-    assert obs.report.gamma_opt == pytest.approx(gstar, rel=1e-3)
+    assert obs.report.gamma_convex == pytest.approx(gstar, rel=1e-3)
     # the returned gain is certified to margin * gamma* and verified
     assert obs.hinf <= 1.02 * gstar * (1 + 1e-5)
     assert obs.hinf >= gstar * (1 - 1e-3)
@@ -93,7 +93,7 @@ def test_two_stage_conditions_the_gain():
     assert np.linalg.norm(good.G, 2) < np.linalg.norm(raw.G, 2) / 100
     true = cx.hinfnorm(ct.ss(*prob.error_system(good.G)))[0]
     assert true <= good.gamma_bound * (1 + 1e-6)
-    assert good.gamma_bound == pytest.approx(1.02 * good.gamma_opt)
+    assert good.gamma_bound == pytest.approx(1.02 * good.gamma_convex)
 
 
 @pytest.mark.parametrize('decay', [0.5, 1.0, 2.0])
@@ -113,7 +113,7 @@ def test_paper_decay_design_reaches_theorem_3_12(second_order_plant):
     LMI alone is conservative (0.45), refinement reaches the published
     value."""
     convex = cx.hinf_observer(second_order_plant, decay=1.0, refine=False)
-    assert convex.report.gamma_opt == pytest.approx(0.45, abs=0.01)
+    assert convex.report.gamma_convex == pytest.approx(0.45, abs=0.01)
     obs = cx.hinf_observer(second_order_plant, decay=1.0)
     assert obs.hinf < 0.28515       # DESIGN.md §5: ≤ 0.2851 to its digits
     assert obs.report.stage == 'refined'
@@ -145,13 +145,13 @@ def test_shifted_riccati_design_is_certified(seed):
     obs = cx.hinf_observer(plant, decay=sigma, Bw=Bws, Dw=Dws,
                            method='riccati', refine=False)
     level = riccati_level(A + sigma * np.eye(n), C, Bws, Dws, np.eye(n))
-    assert obs.report.gamma_opt == pytest.approx(level, rel=1e-4)
+    assert obs.report.gamma_convex == pytest.approx(level, rel=1e-4)
     assert obs.report.method == 'shifted riccati'
     assert max(ct.poles(obs).real) <= -sigma + 1e-9
     assert cx.hinfnorm(obs)[0] <= obs.report.gamma_bound * (1 + 1e-6)
     lmi = cx.hinf_observer(plant, decay=sigma, Bw=Bws, Dw=Dws,
                            method='lmi', refine=False)
-    assert lmi.report.gamma_opt <= level * (1 + 1e-4)
+    assert lmi.report.gamma_convex <= level * (1 + 1e-4)
 
 
 def test_auto_takes_the_riccati_route_above_the_size_limit(monkeypatch):
@@ -184,4 +184,4 @@ def test_convex_stage_keeps_an_attained_optimum(scalar_plant):
     plant, Bw = unstable_plant(seed=0)
     sol = solve_observer_lmi(ObserverProblem(plant.A, plant.C, Bw))
     assert 'kept' not in sol.stats['stage2']
-    assert sol.gamma_bound == pytest.approx(1.02 * sol.gamma_opt)
+    assert sol.gamma_bound == pytest.approx(1.02 * sol.gamma_convex)

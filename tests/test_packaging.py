@@ -25,6 +25,7 @@ def test_wheel_builds_with_license_and_one_version(tmp_path):
     assert any(n.endswith('licenses/LICENSE') for n in names)
     assert any(n.startswith('controlext/synthesis/') for n in names)
     assert any(n.startswith('controlext/paper/') for n in names)
+    assert 'controlext/py.typed' in names          # PEP 561: typed package
     text = meta.decode()
     assert 'License-Expression: BSD-3-Clause' in text
     assert f'Version: {cx.__version__}' in text        # the one source

@@ -58,7 +58,7 @@ class ConvexResult:
         The gain (``problem.gain_shape``).
     gamma_bound : float
         Certified bound on the H∞ norm of its error system.
-    gamma_opt : float
+    gamma_convex : float
         The convex problem's optimum ``γ*`` (its infimum where the
         optimum is not attained).
     method : str
@@ -78,13 +78,13 @@ class ConvexResult:
     """
     G: np.ndarray
     gamma_bound: float
-    gamma_opt: float
+    gamma_convex: float
     method: str
     stage: str
     solver: str
     status: str = 'optimal'
     stats: dict = field(default_factory=dict)
-    luenberger: 'ConvexResult' = None
+    luenberger: 'ConvexResult | None' = None
     report: object = None
 
 
@@ -136,7 +136,7 @@ def convex_stage(problem, region, options):
         sub = convex_stage(problem.single(), region, options)
         G = problem.embed(sub.G)
         result = ConvexResult(
-            G=G, gamma_bound=sub.gamma_bound, gamma_opt=sub.gamma_opt,
+            G=G, gamma_bound=sub.gamma_bound, gamma_convex=sub.gamma_convex,
             method=f'embedded {sub.method}', stage=sub.stage,
             solver=sub.solver, status=sub.status,
             stats={'luenberger': sub.stats}, luenberger=sub)
@@ -237,7 +237,7 @@ def _placed_design(problem, region):
         Disk(1.0) if problem.dt else HalfPlane(0.0)
     poles = interior_poles(problem.A, stable, problem.dt)
     L = place_gain(problem.A, problem.C, poles)
-    return ConvexResult(G=L, gamma_bound=None, gamma_opt=float('nan'),
+    return ConvexResult(G=L, gamma_bound=None, gamma_convex=float('nan'),
                         method='placement', stage='placement',
                         solver='placement')
 
@@ -246,7 +246,7 @@ def _lmi_design(problem, region, options):
     sol = solve_observer_lmi(problem, region, options.margin,
                              options.solver, options.solver_options)
     return ConvexResult(G=sol.G, gamma_bound=sol.gamma_bound,
-                        gamma_opt=sol.gamma_opt, method='lmi', stage='lmi',
+                        gamma_convex=sol.gamma_convex, method='lmi', stage='lmi',
                         solver=sol.stats['solver'], status=sol.status,
                         stats={'lmi': sol.stats})
 
@@ -258,7 +258,7 @@ def _modal_design(problem, region, options, split):
                              options.margin, options.solver,
                              options.solver_options)
     return ConvexResult(G=U[:, :k] @ sol.G, gamma_bound=sol.gamma_bound,
-                        gamma_opt=sol.gamma_opt, method='modal lmi',
+                        gamma_convex=sol.gamma_convex, method='modal lmi',
                         stage='lmi', solver=sol.stats['solver'],
                         status=sol.status,
                         stats={'lmi': sol.stats, 'modal': {'slow_states': k}})
@@ -287,7 +287,7 @@ def _riccati_design(problem, region, margin):
         except ParameterError as exc:
             failure = exc
             continue
-        return ConvexResult(G=L, gamma_bound=gbound, gamma_opt=gopt,
+        return ConvexResult(G=L, gamma_bound=gbound, gamma_convex=gopt,
                             method='riccati' if region is None else
                             'shifted riccati', stage='riccati',
                             solver='riccati',

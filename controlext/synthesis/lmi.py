@@ -62,7 +62,7 @@ class LMISolution:
     ----------
     G : ndarray
         Gain ``X⁻¹ Y``.
-    gamma_opt : float
+    gamma_convex : float
         Optimal level ``γ*`` of stage 1 (the convex problem's optimum).
     gamma_bound : float
         Certified bound of the returned gain (``margin · γ*``).
@@ -74,7 +74,7 @@ class LMISolution:
         Solver name, iterations and solve time of each stage.
     """
     G: np.ndarray
-    gamma_opt: float
+    gamma_convex: float
     gamma_bound: float
     X: np.ndarray
     Y: np.ndarray
@@ -117,10 +117,10 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
         (cp.OPTIMAL,)
     _solve(stage1, solver, opts, 'stage 1 (minimise γ)', stats, 'stage1',
            accept=accept)
-    gamma_opt = float(gamma.value)
+    gamma_convex = float(gamma.value)
     Xv, Yv = X.value, Y.value
     X1, Y1 = Xv, Yv
-    gbound = gamma_opt
+    gbound = gamma_convex
     if margin > 1:
         n = Xv.shape[0]
         # X <= max(λmax(X₁), 1) I keeps stage 2 bounded; where γ* is not
@@ -135,7 +135,7 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
         # exactly) margin·γ* would still demand γ ≈ 0 and a huge gain
         floor = (margin - 1) * 1e-3 * problem.noise_scale
         for k, factor in enumerate(tries):
-            gbound = max(factor * gamma_opt, gamma_opt + floor)
+            gbound = max(factor * gamma_convex, gamma_convex + floor)
             t = cp.Variable()
             stage2 = cp.Problem(cp.Maximize(t), cons + [
                 brl(cp.Constant(gbound)), X >> t * np.eye(n),
@@ -153,8 +153,8 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
                     stats.setdefault('stage2', {})['verified'] = True
                 Xv, Yv = X.value, Y.value
                 if stage1.status == cp.OPTIMAL and _stage1_is_better(
-                        problem, region, X1, Y1, Xv, Yv, gamma_opt):
-                    Xv, Yv, gbound = X1, Y1, gamma_opt
+                        problem, region, X1, Y1, Xv, Yv, gamma_convex):
+                    Xv, Yv, gbound = X1, Y1, gamma_convex
                     stats.setdefault('stage2', {})['kept'] = 'stage 1'
                 break
             except SolverError:
@@ -166,14 +166,14 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
                 # numerical: keep the stage-1 certificate and record it
                 stats.setdefault('stage2', {})['fallback'] = \
                     'stage 1 solution kept'
-                gbound = gamma_opt
+                gbound = gamma_convex
     Xv = 0.5 * (Xv + Xv.T)
     G = np.linalg.solve(Xv, Yv)
-    return LMISolution(G=G, gamma_opt=gamma_opt, gamma_bound=gbound, X=Xv,
+    return LMISolution(G=G, gamma_convex=gamma_convex, gamma_bound=gbound, X=Xv,
                        Y=Yv, status='optimal', stats=stats)
 
 
-def _stage1_is_better(problem, region, X1, Y1, X2, Y2, gamma_opt):
+def _stage1_is_better(problem, region, X1, Y1, X2, Y2, gamma_convex):
     """Is the stage-1 gain worth keeping over the conditioned one?
 
     Where ``γ*`` is attained the stage-1 gain is often of moderate norm
@@ -187,7 +187,7 @@ def _stage1_is_better(problem, region, X1, Y1, X2, Y2, gamma_opt):
     if G1 is None or G2 is None or \
             not np.linalg.norm(G1, 2) <= 10 * np.linalg.norm(G2, 2):
         return False
-    report = _verified(problem, region, G1, gamma_opt)
+    report = _verified(problem, region, G1, gamma_convex)
     h2 = hinfnorm_matrices(*problem.error_system(G2), problem.dt)[0]
     return report is not None and report.hinf < (1 - 1e-3) * h2
 

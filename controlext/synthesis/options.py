@@ -19,7 +19,10 @@ Traceback (most recent call last):
 controlext.exceptions.ArgumentError: unrecognized refinement option(s): 'seed' (seed is a synthesis option: pass seed= to the factory)
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass, field, fields, replace
+from typing import Any
 
 from .._checks import check_choice, check_number
 from ..exceptions import ArgumentError, ParameterError
@@ -104,13 +107,13 @@ class RefineOptions:
     peaks : int
         Recent peak frequencies the line search's lower bound looks at.
     """
-    random_starts: int = None
+    random_starts: int | None = None
     screen_iterations: int = 25
     polish: int = 6
-    maxiter: int = None
-    restarts: int = None
+    maxiter: int | None = None
+    restarts: int | None = None
     delta: float = 1e-7
-    rho: float = None
+    rho: float | None = None
     rho_scale: float = 3.0
     escalations: int = 5
     tikhonov: float = 1e-5
@@ -129,7 +132,8 @@ class RefineOptions:
             object.__setattr__(self, name, value)
 
     @classmethod
-    def coerce(cls, value):
+    def coerce(cls,
+               value: RefineOptions | dict[str, Any] | None) -> RefineOptions:
         """``RefineOptions`` from None, a dict or a ``RefineOptions``."""
         if value is None:
             return cls()
@@ -190,7 +194,7 @@ class SynthesisOptions:
     """
     margin: float = 1.02
     method: str = 'auto'
-    solver: str = None
+    solver: str | None = None
     solver_options: dict = field(default_factory=dict)
     seed: int = 0
     refine: bool = True
@@ -218,12 +222,13 @@ class SynthesisOptions:
         set_('executor', _check_executor(self.executor))
         set_('refine_options', RefineOptions.coerce(self.refine_options))
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> SynthesisOptions:
         """A copy with some fields changed (checked again)."""
         return replace(self, **changes)
 
     @classmethod
-    def from_keywords(cls, options=None, **keywords):
+    def from_keywords(cls, options: SynthesisOptions | None = None,
+                      **keywords: Any) -> SynthesisOptions:
         """The options of a factory call: ``options`` (a
         ``SynthesisOptions``, default all defaults) with every keyword that
         differs from its default applied on top.
@@ -251,7 +256,7 @@ class SynthesisOptions:
         return options.replace(**changes) if changes else options
 
     @property
-    def solver_name(self):
+    def solver_name(self) -> str:
         """The cvxpy solver that will run."""
         return self.solver or 'CLARABEL'
 

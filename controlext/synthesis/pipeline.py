@@ -29,7 +29,8 @@ import warnings
 
 import numpy as np
 
-from .._checks import check_detectable, check_name, check_region_reachable
+from .._checks import (check_detectable, check_region_reachable,
+                       check_system)
 from ..exceptions import GainWarning, VerificationError
 from .convex import convex_stage
 from .refine import refine_gain
@@ -40,7 +41,7 @@ __all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem',
            'warn_if_extreme']
 
 
-def design(cls, problem, options, *, decay=None, region=None, name=None,
+def design(cls, problem, options, *, decay=None, region=None, system=None,
            what='plant'):
     """The factories' road: check everything, synthesise on a scaled
     realisation (:meth:`ObserverProblem.state_scaling`), map the gain
@@ -48,11 +49,15 @@ def design(cls, problem, options, *, decay=None, region=None, name=None,
     ``cls`` from the problem it was designed on.
 
     ``decay``/``region`` give the pole region (:func:`region_for`);
-    ``what`` names the plant in a detectability error.  Every check runs
-    before any solver.
+    ``system`` holds python-control's system keywords (``name``,
+    ``inputs``, ``outputs``, ``states``) for the observer; ``what`` names
+    the plant in a detectability error.  Every check runs before any
+    solver.
     """
     start = time.perf_counter()
-    check_name(name)
+    system = check_system(**(system or {}))
+    problem.error_signals(system['inputs'], system['outputs'],
+                          system['states'])
     region = region_for(decay, region, problem.dt)
     check_problem(problem, region, what)
     # synthesis on a realisation whose scaling does not depend on the
@@ -74,7 +79,7 @@ def design(cls, problem, options, *, decay=None, region=None, name=None,
     warn_if_extreme(scaled, G, report, region)
     G = problem.unscale_gain(G, d)
     report.time = time.perf_counter() - start
-    return cls.from_problem(problem, G, report=report, name=name)
+    return cls.from_problem(problem, G, report=report, **system)
 
 
 def check_problem(problem, region, what='plant'):

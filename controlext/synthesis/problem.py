@@ -51,12 +51,16 @@ Examples
 ([[-2.5, 0.0], [0.0, -2.5]], [2.0, 2.0], [[0.5, 0.5]])
 """
 
+from __future__ import annotations
+
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
 from .._checks import (as_matrix, as_plant, check_copies, check_weights,
-                       noise_model, timebase)
+                       noise_model, signal_names, timebase)
+from .._typing import Array, ArrayLike, Names
 from ..exceptions import DimensionError, ParameterError
 
 __all__ = ['ObserverProblem', 'plant_problem', 'signals_of']
@@ -98,10 +102,15 @@ class ObserverProblem:
         ``outputs``, ``states``).
     """
 
-    def __init__(self, A, C, Bw=None, Dw=None, Cz=None, copies=1,
-                 weights=None, dt=0, *, B=None, D=None, measure=None,
-                 feed=None, states=None, plant_noise=None,
-                 extra_outputs=None, signals=None):
+    def __init__(self, A: ArrayLike, C: ArrayLike, Bw: ArrayLike | None = None,
+                 Dw: ArrayLike | None = None, Cz: ArrayLike | None = None,
+                 copies: int = 1, weights: ArrayLike | None = None,
+                 dt: float | bool = 0, *, B: ArrayLike | None = None,
+                 D: ArrayLike | None = None, measure: ArrayLike | None = None,
+                 feed: ArrayLike | None = None, states: int | None = None,
+                 plant_noise: tuple[Array, Array] | None = None,
+                 extra_outputs: tuple[str, Array] | None = None,
+                 signals: dict[str, Any] | None = None) -> None:
         A = as_matrix(A, 'A', (None, None))
         m = A.shape[0]
         if A.shape != (m, m):
@@ -139,14 +148,34 @@ class ObserverProblem:
         self.signals = dict(signals or {})
 
     # sizes
-    n = property(lambda self: self.A.shape[0], doc="design states per copy")
-    p = property(lambda self: self.C.shape[0], doc="measurements")
-    q = property(lambda self: self.Bw.shape[1], doc="noise channels")
-    nz = property(lambda self: self.Cz.shape[0], doc="estimated outputs")
-    nu = property(lambda self: self.B.shape[1], doc="plant inputs")
+    @property
+    def n(self) -> int:
+        """Design states per copy."""
+        return self.A.shape[0]
 
     @property
-    def gain_shape(self):
+    def p(self) -> int:
+        """Measurements."""
+        return self.C.shape[0]
+
+    @property
+    def q(self) -> int:
+        """Noise channels."""
+        return self.Bw.shape[1]
+
+    @property
+    def nz(self) -> int:
+        """Estimated outputs."""
+        return self.Cz.shape[0]
+
+    @property
+    def nu(self) -> int:
+        """Plant inputs."""
+        return self.B.shape[1]
+
+
+    @property
+    def gain_shape(self) -> tuple[int, int]:
         """Shape ``(N n, N p)`` of the coupled gain ``G``."""
         return (self.copies * self.n, self.copies * self.p)
 
@@ -171,19 +200,33 @@ class ObserverProblem:
         return np.kron(self.weights.reshape(1, -1), self.Cz)
 
     @property
-    def noise_scale(self):
+    def noise_scale(self) -> float:
         """Size of the noise-to-error channel ``‖Cze‖ (‖Bwe‖ + ‖Dwe‖)``."""
         return float(np.linalg.norm(self.Cze, 2) *
                      (np.linalg.norm(self.Bwe, 2) +
                       np.linalg.norm(self.Dwe, 2)))
 
-    def error_system(self, G):
+    def error_system(self, G: ArrayLike) -> tuple[Array, Array, Array, Array]:
         """Matrices ``(Acl, Bcl, Ccl, Dcl)`` of the error system for gain G."""
         G = np.asarray(G, dtype=float)
         return (self.Ae - G @ self.Ce, G @ self.Dwe - self.Bwe, self.Cze,
                 np.zeros((self.nz, self.q)))
 
-    def estimator_matrices(self, G, copy_outputs=False):
+    def error_signals(self, inputs: Names = None, outputs: Names = None,
+                      states: Names = None) -> dict[str, list[str]]:
+        """Signal names of the error system: noise ``w[i]`` in, weighted
+        error ``ebar[i]`` out, the copies' errors ``e[i]`` (one copy) or
+        ``e<k>[i]`` as states, unless given (a base name or a list)."""
+        N, n = self.copies, self.n
+        default = [f'e[{i}]' for i in range(n)] if N == 1 else \
+            [f'e{k + 1}[{i}]' for k in range(N) for i in range(n)]
+        return dict(inputs=signal_names(inputs, 'w', self.q, 'inputs'),
+                    outputs=signal_names(outputs, 'ebar', self.nz, 'outputs'),
+                    states=signal_names(states, default, N * n, 'states'))
+
+    def estimator_matrices(self, G: ArrayLike,
+                           copy_outputs: bool = False) -> tuple[Array, Array,
+                           Array, Array]:
         """``(A, Bu, By, C)`` of the runnable estimator for gain ``G``:
         ``ξ' = A ξ + Bu u + By y``, outputs ``C ξ``: the estimate ``x̂``
         (``n`` rows), then the extra outputs (averaged over the copies),
@@ -203,12 +246,12 @@ class ObserverProblem:
             rows.append(np.kron(np.eye(N), pick))
         return self.Ae - G @ self.Ce, Bu, By, np.vstack(rows)
 
-    def embed(self, L):
+    def embed(self, L: ArrayLike) -> Array:
         """The coupled gain ``I_N ⊗ L`` of a one-copy gain: every copy runs
         the same Luenberger observer and the average equals it."""
         return np.kron(np.eye(self.copies), np.asarray(L, dtype=float))
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> ObserverProblem:
         """A copy with some fields changed."""
         fields = dict(A=self.A, C=self.C, Bw=self.Bw, Dw=self.Dw, Cz=self.Cz,
                       copies=self.copies, weights=None, dt=self.dt,
@@ -221,11 +264,11 @@ class ObserverProblem:
         fields.update(changes)
         return ObserverProblem(**fields)
 
-    def single(self):
+    def single(self) -> ObserverProblem:
         """The same problem with one copy."""
         return self if self.copies == 1 else self.replace(copies=1)
 
-    def state_scaling(self, sweeps=50):
+    def state_scaling(self, sweeps: int = 50) -> Array:
         """A diagonal state scaling ``d`` that does not depend on the
         units of the states: the realisation ``(D⁻¹ A D, C D, D⁻¹ Bw,
         Cz D)`` is the same for the problem in any units (``x' = T x``,
@@ -275,7 +318,7 @@ class ObserverProblem:
                 break
         return d
 
-    def scaled(self, d):
+    def scaled(self, d: ArrayLike) -> ObserverProblem:
         """The problem in the scaled states ``D⁻¹ x`` (synthesis data
         only: a gain ``G_s`` of it is ``(I_N ⊗ D) G_s`` here)."""
         d = np.asarray(d, dtype=float)
@@ -285,9 +328,10 @@ class ObserverProblem:
                                copies=self.copies, weights=self.weights,
                                dt=self.dt)
 
-    def unscale_gain(self, G, d):
+    def unscale_gain(self, G: ArrayLike, d: ArrayLike) -> Array:
         """The gain of this problem for a gain ``G`` of ``scaled(d)``."""
-        return np.kron(np.ones(self.copies), np.asarray(d))[:, None] * G
+        scale = np.kron(np.ones(self.copies), np.asarray(d, dtype=float))
+        return scale[:, None] * np.asarray(G, dtype=float)
 
 
 def plant_problem(plant, Bw=None, Dw=None, Cz=None, copies=1, weights=None):

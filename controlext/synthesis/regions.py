@@ -22,12 +22,17 @@ True
 False
 """
 
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
 from functools import partial
 
 import numpy as np
 
 from .._checks import check_number, sample_step
 from ..exceptions import ArgumentError, ParameterError, RegionError
+from .._typing import Array, ArrayLike
 
 __all__ = ['Region', 'HalfPlane', 'Disk', 'Sector', 'region_for']
 
@@ -45,7 +50,7 @@ class Region:
     #: 'continuous', 'discrete' or 'any': the time domain the region fits
     domain = 'any'
 
-    def __init__(self, parts, label):
+    def __init__(self, parts: Sequence[Any], label: str) -> None:
         self._parts = list(parts)
         self._label = label
 
@@ -66,12 +71,12 @@ class Region:
 
     __str__ = __repr__
 
-    def blocks(self):
+    def blocks(self) -> list[Any]:
         """Characteristic matrices ``[(L, M), ...]`` of each part."""
         return [(np.atleast_2d(part[0]), np.atleast_2d(part[1]))
                 for part in self._parts]
 
-    def margins(self, eigs):
+    def margins(self, eigs: ArrayLike) -> Array:
         """Array ``(len(eigs), parts)`` of ``g(λ)``; ``<= 0`` inside."""
         eigs = np.atleast_1d(np.asarray(eigs, dtype=complex)).ravel()
         # the parts' margins are elementwise numpy expressions
@@ -80,17 +85,18 @@ class Region:
             out[:, k] = part[2](eigs)
         return out
 
-    def margin_gradients(self, eigs):
+    def margin_gradients(self, eigs: ArrayLike) -> Array:
         """Array ``(len(eigs), parts, 2)`` of ``(dg/dRe λ, dg/dIm λ)``."""
         eigs = np.atleast_1d(np.asarray(eigs, dtype=complex))
         return np.array([[part[3](lam) for part in self._parts]
                          for lam in eigs]).reshape(len(eigs), -1, 2)
 
-    def worst_margin(self, eigs):
+    def worst_margin(self, eigs: ArrayLike) -> float:
         """Largest margin over eigenvalues and parts (``<= 0`` inside)."""
         return float(np.max(self.margins(eigs)))
 
-    def stable_interval(self, dt=0):
+    def stable_interval(self, dt: float | bool = 0) -> tuple[float,
+                        float] | None:
         """The real points of the region where an error pole is stable:
         the interval ``(a, b)`` (``a`` may be very negative for unbounded
         continuous-time regions), or None if the region has no stable
@@ -137,11 +143,11 @@ class Region:
 
         return edge(lo), edge(hi)
 
-    def contains(self, eigs, tol=_TOL):
+    def contains(self, eigs: ArrayLike, tol: float = _TOL) -> bool:
         """True if every eigenvalue lies in the region (to ``tol``)."""
         return self.worst_margin(eigs) <= tol
 
-    def inside(self, points):
+    def inside(self, points: ArrayLike) -> Array:
         """Boolean array: which of ``points`` (complex) lie in the region.
 
         Vectorised over any array shape (for shading a grid).
@@ -152,7 +158,7 @@ class Region:
             return np.zeros(pts.shape, dtype=bool)
         return (self.margins(flat).max(axis=1) <= _TOL).reshape(pts.shape)
 
-    def boundary(self, extent, num=400):
+    def boundary(self, extent: tuple[float, float, float, float], num: int = 400) -> list[Array]:
         """Boundary curves of the region's parts inside ``extent``.
 
         Parameters
@@ -188,7 +194,7 @@ class HalfPlane(Region):
 
     domain = 'continuous'
 
-    def __init__(self, decay):
+    def __init__(self, decay: float) -> None:
         decay = check_number(decay, 'decay')
         if decay < 0:
             raise ParameterError(f"decay must be a finite number >= 0; "
@@ -214,7 +220,8 @@ class Disk(Region):
     True
     """
 
-    def __init__(self, radius, center=0.0, domain='any'):
+    def __init__(self, radius: float, center: float = 0.0,
+                 domain: str = 'any') -> None:
         radius, center = check_number(radius, 'radius'), check_number(center, 'center')
         if radius <= 0:
             raise ParameterError(f"radius must be > 0; found {radius}")
@@ -244,7 +251,7 @@ class Sector(Region):
 
     domain = 'continuous'
 
-    def __init__(self, damping):
+    def __init__(self, damping: float) -> None:
         damping = check_number(damping, 'damping')
         if not 0 <= damping < 1:
             raise ParameterError(f"damping must lie in [0, 1); found "
@@ -301,7 +308,8 @@ def _sector_boundary(th, extent, num):
     return [r * -np.exp(1j * th), r * -np.exp(-1j * th)]
 
 
-def region_for(decay=None, region=None, dt=0):
+def region_for(decay: float | None = None, region: Region | None = None,
+               dt: float | bool = 0) -> Region | None:
     """The pole region asked for by ``decay=`` or ``region=``.
 
     A decay ``σ`` is the half-plane ``Re s <= -σ`` in continuous time and

@@ -17,13 +17,21 @@ Examples
 (0.8, 2.5)
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass, field, asdict
+from typing import TYPE_CHECKING, Any
+
+import warnings
 
 import numpy as np
 import control as ct
 
 from ..exceptions import VerificationError
 from ..norms import hinfnorm
+
+if TYPE_CHECKING:
+    from .regions import Region
 
 __all__ = ['DesignReport', 'verify_design']
 
@@ -62,10 +70,13 @@ class DesignReport:
         Which stage produced the gain: ``'lmi'``, ``'riccati'``,
         ``'refined'`` or ``'luenberger'`` (the Luenberger-equivalent start
         of a coupled design).
-    gamma_opt : float or None
-        Optimum of the convex problem (stage 1), when one was solved.
+    gamma_convex : float or None
+        The level the convex problem (stage 1) reached, when one was solved:
+        a bound for the convex stage's own gain, not the H∞ norm of the
+        returned (possibly refined) design — that is ``hinf``.
+        (``gamma_opt`` is a deprecated alias.)
     gamma_bound : float or None
-        Certified bound on the H∞ norm of the returned gain.
+        Certified bound on the H∞ norm of the convex stage's gain.
     solver, status : str or None
         Solver used and its final status.
     time : float
@@ -78,16 +89,24 @@ class DesignReport:
     peak_frequency: float
     decay: float
     poles: np.ndarray
-    region: object = None
-    stage: str = None
-    gamma_opt: float = None
-    gamma_bound: float = None
-    solver: str = None
-    status: str = None
+    region: Region | None = None
+    stage: str | None = None
+    gamma_convex: float | None = None
+    gamma_bound: float | None = None
+    solver: str | None = None
+    status: str | None = None
     time: float = 0.0
     stats: dict = field(default_factory=dict)
 
-    def as_dict(self):
+    @property
+    def gamma_opt(self) -> float | None:
+        """Deprecated alias of :attr:`gamma_convex`."""
+        warnings.warn("DesignReport.gamma_opt is deprecated: it is the convex "
+                      "stage's level, now named gamma_convex (the design's "
+                      "H∞ norm is hinf)", DeprecationWarning, stacklevel=2)
+        return self.gamma_convex
+
+    def as_dict(self) -> dict[str, Any]:
         """The report as a plain dictionary."""
         return asdict(self)
 
@@ -107,9 +126,9 @@ class DesignReport:
                     else "")]
         if self.gamma_bound is not None:
             lines.append(f"convex stage: certified   {self.gamma_bound:.6g}"
-                         f", optimum of its LMI {self.gamma_opt:.6g}"
-                         if self.gamma_opt is not None and
-                         np.isfinite(self.gamma_opt) else
+                         f", level of its LMI {self.gamma_convex:.6g}"
+                         if self.gamma_convex is not None and
+                         np.isfinite(self.gamma_convex) else
                          f"convex stage: certified   {self.gamma_bound:.6g}")
         lines.append(f"gain from                 {self.stage} ({self.method}"
                      f", {self.time:.3g} s)")
@@ -142,7 +161,7 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
         if G is convex.G and gamma_bound is None:
             gamma_bound = convex.gamma_bound
         method = convex.method if method == 'given' else method
-        info = dict(dict(stage=convex.stage, gamma_opt=convex.gamma_opt,
+        info = dict(dict(stage=convex.stage, gamma_convex=convex.gamma_convex,
                          solver=convex.solver, status=convex.status,
                          stats=convex.stats), **info)
     sys = ct.ss(*problem.error_system(G), problem.dt)
