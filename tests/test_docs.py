@@ -2,6 +2,7 @@
 function documents itself with a doctested example."""
 
 import inspect
+import re
 import pathlib
 import subprocess
 import sys
@@ -26,15 +27,67 @@ def test_every_public_name_is_in_the_api_reference():
     assert not missing, missing
 
 
-def test_sphinx_build_without_warnings(tmp_path):
+@pytest.fixture(scope='module')
+def built(tmp_path_factory):
+    """The HTML documentation, built with warnings as errors (this runs
+    every example script for the gallery and the closed-loop page's
+    code)."""
     pytest.importorskip('sphinx')
     pytest.importorskip('numpydoc')
+    out = tmp_path_factory.mktemp('docs')
     proc = subprocess.run(
         [sys.executable, '-m', 'sphinx', '-W', '--keep-going', '-b', 'html',
-         '-q', '-d', str(tmp_path / 'doctrees'), str(DOCS),
-         str(tmp_path / 'html')], capture_output=True, text=True,
-        timeout=600)
+         '-q', '-d', str(out / 'doctrees'), str(DOCS), str(out / 'html')],
+        capture_output=True, text=True, timeout=1200)
     assert proc.returncode == 0, proc.stderr
-    html = (tmp_path / 'html' / 'generated' /
-            'controlext.coupled_observer.html').read_text()
+    return out / 'html'
+
+
+@pytest.mark.slow
+def test_sphinx_build_without_warnings(built):
+    html = (built / 'generated' / 'controlext.coupled_observer.html') \
+        .read_text()
     assert 'Examples' in html and 'Theorem 3.10' in html
+
+
+@pytest.mark.slow
+def test_closed_loop_page_has_its_figures(built):
+    html = (built / 'closed_loop.html').read_text()
+    figures = re.findall(r'<img[^>]+src="(_images/closed_loop[^"]+\.png)"',
+                         html)
+    assert len(figures) == 2, figures          # noisy run, LQR step
+    for src in figures:
+        assert (built / src).stat().st_size > 5000
+    assert 'create_statefbk_iosystem' in html and 'ct.lqe' in html
+
+
+@pytest.mark.slow
+def test_gallery_shows_every_example_with_its_figure(built):
+    html = (built / 'examples.html').read_text()
+    for script in sorted((DOCS.parent / 'examples').glob('*.py')):
+        src = f'_images/{script.stem}.png'
+        assert src in html, script.stem
+        assert (built / src).stat().st_size > 5000
+
+
+@pytest.mark.slow
+def test_math_needs_no_network_and_names_link_out(built):
+    for page in ('guide.html', 'index.html'):
+        html = (built / page).read_text()
+        scripts = re.findall(r'<script[^>]+src="([^"]+)"', html)
+        assert not [s for s in scripts if '://' in s], scripts
+    assert (built / '_static' / 'mathjax' / 'tex-chtml.js').exists()
+    # intersphinx: python-control's classes are links to its documentation
+    index = (built / 'index.html').read_text()
+    assert 'python-control.readthedocs.io/en/' in index and \
+        'generated/control.StateSpace.html' in index
+
+
+@pytest.mark.slow
+def test_observer_page_shows_its_own_methods_first(built):
+    html = (built / 'generated' / 'controlext.Observer.html').read_text()
+    own = html.index('controlext.Observer.estimator')
+    # python-control's inherited methods are not listed on the page
+    assert 'controlext.Observer.bode_plot' not in html
+    assert 'controlext.Observer.lft' not in html
+    assert own > 0

@@ -15,12 +15,13 @@ def test_there_are_examples():
     assert len(EXAMPLES) >= 4
 
 
+#: run by the documentation build for the gallery (tests/test_docs.py
+#: fails if one of them fails, prints nothing or writes no figure)
 HEAVY = {'second_order_tradeoff', 'boeing747_lateral', 'flexible_beam'}
+LIGHT = [p for p in EXAMPLES if p.stem not in HEAVY]
 
 
-@pytest.mark.parametrize('script', [
-    pytest.param(p, marks=pytest.mark.slow) if p.stem in HEAVY else p
-    for p in EXAMPLES], ids=[p.stem for p in EXAMPLES])
+@pytest.mark.parametrize('script', LIGHT, ids=[p.stem for p in LIGHT])
 def test_example_runs(script, tmp_path):
     root = str(pathlib.Path(__file__).parent.parent)
     env = {**os.environ, 'MPLBACKEND': 'Agg',
