@@ -22,3 +22,16 @@ def test_seeded_campaign():
     assert not bad, bad
     assert counts['unwarned huge gain'] == 0
     assert counts['verified'] >= 30
+
+
+@pytest.mark.parametrize('seed', [117, 159])
+def test_augmented_gi_on_badly_scaled_plants(seed):
+    """Wrong refusals of the full campaign: the state scaling drove the
+    constant-disturbance states to 3e-30 (their rows of A are empty, so
+    the balancing sweeps did not converge), and placement on the scaled
+    pair could not move the disturbance mode.  An independent placement
+    on the augmented pair shows a design exists; the judge must now
+    accept the returned one."""
+    counts, details = campaign(1, limit=120.0, start=seed, workers=1)
+    assert details[0][2] == 'gi-aug' and details[0][1] == 'badly-scaled'
+    assert details[0][5] == 'verified', details[0]

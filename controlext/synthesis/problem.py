@@ -279,6 +279,10 @@ class ObserverProblem:
         rows and columns of ``[[A, Bw], [C; Cz, 0]]`` over the states,
         keeping ``‖[C; Cz] D‖_F`` fixed, so that the result is unique.
         A state that no output sees keeps the scale of its neighbours.
+        The sweeps move no state more than ``1e4`` from its output units:
+        on a matrix that is not irreducible (the augmented GI observer's
+        constant disturbance states drive the plant and nothing drives
+        them) they do not converge, and drove such a state to 3e-30.
 
         Examples
         --------
@@ -301,6 +305,7 @@ class ObserverProblem:
         d[seen] = 1.0 / col[seen]
         if not seen.all():
             d[~seen] = np.exp(np.mean(np.log(d[seen]))) if seen.any() else 1
+        units = d.copy()
         off = A * (1 - np.eye(n))
         out2 = np.sum(outputs**2, axis=0)
         bw2 = np.sum(self.Bw**2, axis=1)
@@ -314,6 +319,7 @@ class ObserverProblem:
                     d[k] = (row / colk) ** 0.25
             if target > 0:
                 d *= np.sqrt(target / np.sum(out2 * d**2))
+            d = np.clip(d, units * 1e-4, units * 1e4)
             if np.max(np.abs(np.log(d / before))) < 1e-12:
                 break
         return d
