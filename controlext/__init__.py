@@ -31,6 +31,9 @@ from .analysis import (spectral_abscissa, log_norm, eig_condition,
 # simulation and design maps  (simulate.py, maps.py)
 from .simulate import simulate
 from .maps import DesignMap, design_map
+# trade-offs side by side, with the Kalman filter  (compare.py)
+from .compare import Comparison, compare, kalman_observer
+from .synthesis.tradeoff import Tradeoff
 # plots (matplotlib, optional)  (plot.py)
 from .plot import (error_plot, estimate_plot, tradeoff_plot,
                    design_map_plot, pole_region_plot)
@@ -52,5 +55,6 @@ __all__ = [
     'check_theorem_3_5', 'steady_state_error', 'crossing_time',
     'tradeoff_curve', 'simulate', 'DesignMap', 'design_map',
     'error_plot', 'estimate_plot', 'tradeoff_plot', 'design_map_plot',
-    'pole_region_plot',
+    'pole_region_plot', 'Comparison', 'compare', 'kalman_observer',
+    'Tradeoff',
 ]

@@ -38,6 +38,8 @@ import numpy as np
 import control as ct
 
 from ._checks import check_name, check_system
+from .synthesis.floor import filter_floor
+from .synthesis.tradeoff import Tradeoff, tradeoff_of
 from .synthesis.verify import verify_design
 from ._typing import Array, ArrayLike, Names
 
@@ -120,10 +122,25 @@ class Observer(ct.StateSpace):
     def __str__(self):
         gain = np.array2string(self._G, precision=4, suppress_small=True,
                                max_line_width=78)
+        trade = [] if self.report.tradeoff is None else \
+            ['trade-off:', str(self.report.tradeoff)]
         return '\n'.join([self._summary(), str(self.report),
                           f"gain norm ‖G‖              "
-                          f"{np.linalg.norm(self._G, 2):.6g}",
-                          "G =", gain])
+                          f"{np.linalg.norm(self._G, 2):.6g}"] + trade +
+                         ["G =", gain])
+
+    @property
+    def tradeoff(self) -> Tradeoff:
+        """What the design trades besides γ: the floor γ∞*, the H2 norm,
+        the transient, the gain norm and the decay's sensitivity to gain
+        errors (:mod:`controlext.synthesis.tradeoff`; measured by every
+        factory, computed here on first use for a given gain)."""
+        if self.report.tradeoff is None:
+            self.report.tradeoff = tradeoff_of(
+                self.problem, self._G, self.name,
+                floor=filter_floor(self.problem),
+                luenberger=self.hinf if self.copies == 1 else None)
+        return self.report.tradeoff
 
     def _repr_html_(self):
         rows = [('γ (H∞, noise → error)', f"{self.hinf:.6g}"),

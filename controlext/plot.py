@@ -54,6 +54,13 @@ def _axes(ax, ncols=1):
     return ax.flat[0].figure, ax
 
 
+def _finish(a, lines, ax, fig, **legend):
+    """Grid, legend and python-control's ``ControlPlot`` of one axes."""
+    a.grid(True, alpha=0.3)
+    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
+                          legend=a.legend(**legend))
+
+
 def _observer_count(resp):
     return sum(1 for lb in resp.output_labels if lb.startswith('e') and
                lb.endswith('[0]'))
@@ -110,10 +117,7 @@ def error_plot(resp: ct.TimeResponseData, labels: Sequence[str] | None = None,
     a.set_xlabel('time t [s]')
     a.set_ylabel('|e(t)|' if norm else 'e(t)')
     a.set_title(title or 'Estimation error')
-    a.grid(True, alpha=0.3)
-    legend = a.legend()
-    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
-                          legend=legend)
+    return _finish(a, lines, ax, fig)
 
 
 def estimate_plot(resp: ct.TimeResponseData,
@@ -147,10 +151,7 @@ def estimate_plot(resp: ct.TimeResponseData,
     a.set_xlabel('time t [s]')
     a.set_ylabel(f'x[{state}] and estimates')
     a.set_title(title or 'Plant state and estimates')
-    a.grid(True, alpha=0.3)
-    legend = a.legend()
-    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
-                          legend=legend)
+    return _finish(a, lines, ax, fig)
 
 
 def tradeoff_plot(curve: dict[Any, Array], ax: Any = None,
@@ -179,10 +180,7 @@ def tradeoff_plot(curve: dict[Any, Array], ax: Any = None,
     a.set_xlabel('required decay rate σ')
     a.set_ylabel('H∞ norm γ (noise → error)')
     a.set_title(title or 'Trade-off: robustness against rate of convergence')
-    a.grid(True, alpha=0.3)
-    legend = a.legend()
-    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
-                          legend=legend)
+    return _finish(a, lines, ax, fig)
 
 
 def design_map_plot(dmap: DesignMap, required_decay: float | None = None,
@@ -296,7 +294,4 @@ def pole_region_plot(obs_or_poles: Observer | ArrayLike,
     a.set_ylabel('Im z' if dt else 'Im s')
     a.set_title(title or (f'Error poles in {region}' if region is not None
                           else 'Error poles'))
-    a.grid(True, alpha=0.3)
-    legend = a.legend(loc='upper left')
-    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
-                          legend=legend)
+    return _finish(a, lines, ax, fig, loc='upper left')

@@ -31,6 +31,8 @@ import numpy as np
 
 from .._checks import (check_detectable, check_region_reachable,
                        check_system)
+from .floor import filter_floor
+from .tradeoff import tradeoff_of
 from ..exceptions import GainWarning, VerificationError
 from .convex import convex_stage
 from .refine import refine_gain
@@ -78,6 +80,14 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
     G, report = synthesise(scaled, region, options, check=check)
     warn_if_extreme(scaled, G, report, region)
     G = problem.unscale_gain(G, d)
+    floor = report.stats.get('floor_level', _no_floor)
+    if floor is _no_floor:
+        floor = filter_floor(problem, options.solver,
+                             max_states=options.lmi_max_states)
+    report.tradeoff = tradeoff_of(
+        problem, G, system['name'] or '', floor=floor,
+        luenberger=report.hinf if problem.copies == 1 else
+        report.stats.get('luenberger_hinf'))
     report.time = time.perf_counter() - start
     return cls.from_problem(problem, G, report=report, **system)
 
@@ -139,13 +149,29 @@ def synthesise(problem, region, options, convex=None, check=None):
                           'to the ranking tolerance: nothing to refine')
         return convex.G, best
     starts = [(convex.stage, convex.G)]
+    stats = dict(convex.stats)
     if problem.copies > 1:
         single = options if options.method != 'lmi' else \
             options.replace(method='auto')
-        G1, _ = synthesise(problem.single(), region, single,
-                           convex=convex.luenberger)
+        G1, rep1 = synthesise(problem.single(), region, single,
+                              convex=convex.luenberger)
         starts.append(('luenberger', problem.embed(G1)))
-    stats = dict(convex.stats)
+        floor = filter_floor(problem, options.solver,
+                             max_states=options.lmi_max_states)
+        stats.update(luenberger_hinf=rep1.hinf, floor_level=floor)
+        if floor is not None and rep1.hinf <= floor + _equal(floor,
+                                                             problem):
+            # headroom: the one-copy design is at the level no observer
+            # of any structure can beat; copies cannot improve on it
+            stats['headroom'] = (
+                f"the one-copy design reaches the unconstrained H∞ filter "
+                f"level γ∞* = {floor:.6g} (γ = {rep1.hinf:.6g}): no "
+                "observer of any structure or order can do better, so the "
+                "copies were not refined")
+            report = check(problem.embed(G1), method=f'{convex.method}+'
+                           'headroom', stage='luenberger', convex=convex,
+                           stats=stats)
+            return problem.embed(G1), report
     try:
         res = refine_gain(problem, region, starts,
                           options=options.refine_options, seed=options.seed,
@@ -189,6 +215,9 @@ def synthesise(problem, region, options, convex=None, check=None):
                   key=lambda item: np.linalg.norm(item[1], 2))
     best.method, best.stats = method, stats
     return G, best
+
+
+_no_floor = object()
 
 
 def _equal(gamma, problem):

@@ -32,6 +32,7 @@ from ..norms import hinfnorm
 
 if TYPE_CHECKING:
     from .regions import Region
+    from .tradeoff import Tradeoff
 
 __all__ = ['DesignReport', 'verify_design']
 
@@ -83,6 +84,10 @@ class DesignReport:
         Wall-clock time of the design, in seconds.
     stats : dict
         Solver statistics and stage details.
+    tradeoff : Tradeoff or None
+        What the design trades besides γ (floor, H2 norm, transient, gain
+        norm, decay sensitivity; :mod:`controlext.synthesis.tradeoff`):
+        measured on every design a factory returns.
     """
     method: str
     hinf: float
@@ -97,6 +102,7 @@ class DesignReport:
     status: str | None = None
     time: float = 0.0
     stats: dict = field(default_factory=dict)
+    tradeoff: Tradeoff | None = None
 
     @property
     def gamma_opt(self) -> float | None:

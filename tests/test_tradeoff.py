@@ -1,0 +1,144 @@
+"""The trade-off of every design, checked against independent numbers:
+closed forms, python-control's H2 norm, dense simulations, brute-force
+searches and the Kalman filter's optimality."""
+
+import numpy as np
+import pytest
+import control as ct
+import scipy.linalg as la
+
+import controlext as cx
+from controlext.synthesis import ObserverProblem
+from controlext.synthesis.floor import filter_floor
+
+SCALAR = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+SECOND = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]], 0)
+NOISE = dict(Bw=[[1.0, 0.0]], Dw=[[0.0, 1.0]])      # w = [process, sensor]
+NOISE2 = dict(Bw=[[1.0, 0.0], [0.5, 0.0]], Dw=[[0.0, 1.0]])
+MOTOR = ct.ss([[0, 1], [0, -2.0]], [[0], [4.0]], [[1, 0]], 0)
+MOTOR_NOISE = dict(Bw=[[0, 0], [1, 0]], Dw=[[0, 0.1]])
+
+
+def test_paper_plants_settling_times_against_simulation():
+    """2 % settling of the averaged error from a unit initial error, all
+    copies equal: the Luenberger scalar design e^{-2.5 t} settles at
+    ln(50)/2.5; the pair's against a dense simulation of its error
+    system."""
+    obs = cx.hinf_observer(SCALAR, decay=2.5)
+    assert obs.tradeoff.settling_time == pytest.approx(np.log(50) / 2.5,
+                                                       rel=1e-6)
+    pair = cx.coupled_observer(SCALAR, decay=2.5)
+    T = np.linspace(0, 6, 60001)
+    resp = ct.initial_response(ct.ss(pair.A, pair.B, pair.C, pair.D), T,
+                               X0=np.ones(2))
+    env = np.abs(resp.outputs)
+    last = T[np.nonzero(env > 0.02)[0][-1]]
+    assert pair.tradeoff.settling_time == pytest.approx(last, abs=2e-4)
+    assert pair.tradeoff.peak == pytest.approx(env.max(), rel=1e-4)
+    # coupling buys γ with settling time (the issue's measurements)
+    assert pair.tradeoff.settling_time == pytest.approx(2.51, abs=0.01)
+    assert pair.hinf < obs.hinf
+
+
+@pytest.mark.parametrize('dt', [0, 0.1])
+def test_h2_against_python_control(dt):
+    plant = SECOND if not dt else ct.c2d(SECOND, dt)
+    obs = cx.LuenbergerObserver(plant, [[2.0], [5.0]] if not dt else
+                                [[0.3], [0.2]], **NOISE2)
+    assert obs.tradeoff.h2 == pytest.approx(ct.norm(obs, 2), rel=1e-8)
+
+
+def test_h2_closed_form_scalar():
+    """e' = -(0.5 + L) e + L w: H2² = L² / (2 (0.5 + L))."""
+    obs = cx.LuenbergerObserver(SCALAR, [[2.0]])
+    assert obs.tradeoff.h2 == pytest.approx(np.sqrt(4 / 5), rel=1e-12)
+
+
+def test_floor_closed_form_and_brute_force():
+    """Scalar x' = -0.5 x + w₁, y = x + w₂: ‖T‖∞ = √(1 + L²) / (0.5 + L)
+    (peak at ω = 0), least at L = 2: 1/√1.25.  Discrete x⁺ = 0.5 x + w₁:
+    the same by a brute-force search over L (peak at z = ±1)."""
+    prob = ObserverProblem([[-0.5]], [[1.0]], **NOISE)
+    assert filter_floor(prob) == pytest.approx(1 / np.sqrt(1.25), rel=1e-6)
+    dprob = ObserverProblem([[0.5]], [[1.0]], **NOISE, dt=1.0)
+    Ls = np.linspace(-0.49, 1.49, 198001)
+    brute = np.min(np.sqrt(1 + Ls**2) / np.minimum(
+        np.abs(1 - (0.5 - Ls)), np.abs(-1 - (0.5 - Ls))))
+    assert filter_floor(dprob) == pytest.approx(brute, rel=1e-5)
+
+
+def test_no_design_below_the_floor():
+    for obs in (cx.hinf_observer(SECOND, decay=1.0, **NOISE2),
+                cx.coupled_observer(SECOND, decay=1.0, **NOISE2)):
+        assert obs.hinf >= obs.tradeoff.floor * (1 - 1e-6)
+
+
+def test_headroom_returns_the_one_copy_design_and_says_why():
+    """Scalar plant with process and sensor noise at decay 2.5: the
+    unconstrained optimum L = 2 (closed form above) has its pole at
+    exactly -2.5, so the one-copy design is at the floor 1/√1.25 and the
+    pair returns it at once, unrefined."""
+    one = cx.hinf_observer(SCALAR, decay=2.5, **NOISE)
+    assert one.hinf == pytest.approx(1 / np.sqrt(1.25), rel=1e-3)
+    pair = cx.coupled_observer(SCALAR, decay=2.5, **NOISE)
+    assert 'no observer of any structure' in pair.report.stats['headroom']
+    assert pair.hinf == pytest.approx(one.hinf, rel=1e-6)
+    assert 'refine' not in pair.report.stats       # no refinement ran
+    # where the one-copy design is above the floor, the pair is refined
+    free = cx.coupled_observer(SCALAR, decay=2.5)
+    assert 'headroom' not in free.report.stats
+    assert free.hinf == pytest.approx(0.4953, abs=1e-4)
+
+
+def test_sensitivity_of_a_simple_pole():
+    """Scalar: the pole -(0.5 + L(1 + δ)) moves by L δ: at most 2 ε."""
+    obs = cx.LuenbergerObserver(SCALAR, [[2.0]])
+    for eps, loss in obs.tradeoff.sensitivity.items():
+        assert 1.9 * eps <= loss <= 2 * eps * (1 + 1e-9)
+
+
+def test_the_optimum_is_fragile():
+    """The coupled optimum stacks its poles at the region's edge: gain
+    errors of 1e-6 cost three orders of magnitude more decay than for the
+    Luenberger observer (checked by perturbing the gains here)."""
+    pair = cx.coupled_observer(SCALAR, decay=2.5)
+    rng = np.random.default_rng(1)
+    worst = 0.0
+    for _ in range(200):
+        G = pair.G * (1 + 1e-6 * rng.uniform(-1, 1, pair.G.shape))
+        A = pair.problem.error_system(G)[0]
+        worst = max(worst, np.max(la.eigvals(A).real) + 2.5)
+    assert worst > 1e-4
+    assert pair.tradeoff.sensitivity[1e-6] == pytest.approx(worst, rel=0.5)
+
+
+@pytest.mark.parametrize('dt', [0, 0.05])
+def test_kalman_has_the_least_h2(dt):
+    """The Kalman filter minimises the H2 norm: no perturbed gain and no
+    designed observer does better."""
+    plant = MOTOR if not dt else ct.c2d(MOTOR, dt)
+    obs = cx.hinf_observer(plant, **MOTOR_NOISE, name='hinf')
+    table = cx.compare(obs)
+    kf = cx.kalman_observer(obs)
+    assert table['kalman'].h2 <= table['hinf'].h2
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        L = kf.L * (1 + 0.05 * rng.normal(size=kf.L.shape))
+        other = cx.LuenbergerObserver(plant, L, **MOTOR_NOISE)
+        if cx.is_stable(other):
+            assert ct.norm(other, 2) >= table['kalman'].h2 * (1 - 1e-9)
+
+
+def test_compare_prints_and_returns_data():
+    a = cx.hinf_observer(SECOND, decay=1.0, **NOISE2, name='one')
+    b = cx.coupled_observer(SECOND, decay=1.0, **NOISE2, name='pair')
+    table = cx.compare(a, b)
+    text = str(table)
+    assert 'one' in text and 'pair' in text and 'kalman' in text
+    assert table.as_dict()['pair']['hinf'] == pytest.approx(b.hinf, rel=1e-9)
+    assert table['pair'].luenberger == pytest.approx(a.hinf, rel=1e-3)
+    noiseless = cx.LuenbergerObserver(SECOND, [[2.0], [5.0]],
+                                      Bw=[[1.0], [0.0]], Dw=[[0.0]])
+    assert 'no Kalman row' in str(cx.compare(noiseless))
+    with pytest.raises(cx.ArgumentError):
+        cx.compare(SECOND)
