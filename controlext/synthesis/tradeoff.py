@@ -137,11 +137,20 @@ def transient(problem: ObserverProblem, G: ArrayLike, points: int = 1600
         else:
             times = np.linspace(0.0, horizon, points + 1)
             Phi = la.expm(Acl * times[1])
+        if not np.all(np.isfinite(Phi)):
+            # e^{Ae h} overflows: a transient beyond floating point
+            return float('inf'), float('inf')
         env = np.empty(times.size)
+        states = []
         X = X0.copy()
-        for i in range(times.size):
-            env[i] = la.svdvals(Ccl @ X)[0]
-            X = Phi @ X
+        with np.errstate(over='ignore', invalid='ignore'):
+            for i in range(times.size):
+                Y = Ccl @ X
+                if not np.all(np.isfinite(Y)):
+                    return float('inf'), float('inf')
+                env[i] = la.svdvals(Y)[0]
+                states.append(X)
+                X = Phi @ X
         band = SETTLING_BAND * (start if start > 0 else env.max())
         if env[-1] <= band and env[-max(2, times.size // 8):].max() <= band:
             break
@@ -155,13 +164,21 @@ def transient(problem: ObserverProblem, G: ArrayLike, points: int = 1600
     if dt:
         settle = times[last + 1]
     else:
-        # the envelope is continuous: bisect the crossing in its interval
-        lo, hi = times[last], times[last + 1]
-        for _ in range(40):
-            mid = 0.5 * (lo + hi)
-            val = la.svdvals(Ccl @ la.expm(Acl * mid) @ X0)[0]
-            lo, hi = (mid, hi) if val > band else (lo, mid)
-        settle = hi
+        # the envelope is continuous: sub-steps across the crossing's
+        # interval, then linear interpolation between the two around it
+        sub = 256
+        h = (times[last + 1] - times[last]) / sub
+        Phi = la.expm(Acl * h)
+        X, prev = states[last], env[last]
+        settle = times[last + 1]
+        for j in range(1, sub + 1):
+            X = Phi @ X
+            val = la.svdvals(Ccl @ X)[0]
+            if val <= band:
+                settle = times[last] + h * (j - (band - val) / (prev - val)
+                                            if prev > val else j)
+                break
+            prev = val
     return float(env.max()), float(settle)
 
 
