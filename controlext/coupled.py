@@ -150,6 +150,7 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
                      refine_options: RefineOptions | dict[str, Any] | None = None,
                      executor: ExecutorLike = None,
                      options: SynthesisOptions | None = None,
+                     max_gain: float | str | None = 'auto',
                      name: str | None = None, inputs: Names = None,
                      outputs: Names = None,
                      states: Names = None) -> CoupledObserver:
@@ -196,6 +197,11 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     executor : concurrent.futures.Executor, optional
         Runs the refinement's starts in parallel (results do not depend on
         it).
+    max_gain : float, 'auto' or None, optional
+        Bound on the gain's spectral norm ``‖G‖₂`` in the plant's units,
+        held by refinement and verified; ``'auto'`` (default) bounds it at
+        1e6 times the plant's scale and warns when it binds, ``None``
+        lifts it (:class:`~controlext.synthesis.SynthesisOptions`).
     options : SynthesisOptions, optional
         Every tunable of the engine (``lmi_max_states``, ``modal_guard``,
         …); the keywords above override it where they differ from their
@@ -217,7 +223,8 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     options = SynthesisOptions.from_keywords(
         options, margin=margin, method=method, solver=solver,
         solver_options=solver_options, seed=seed, refine=refine,
-        refine_options=refine_options, executor=executor)
+        refine_options=refine_options, executor=executor,
+        max_gain=max_gain)
     problem = plant_problem(plant, Bw, Dw, Cz, copies=check_copies(copies, 2),
                             weights=weights)
     return design(CoupledObserver, problem, options, decay=decay,

@@ -284,6 +284,7 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
                 refine_options: RefineOptions | dict[str, Any] | None = None,
                 executor: ExecutorLike = None,
                 options: SynthesisOptions | None = None,
+                max_gain: float | str | None = 'auto',
                 name: str | None = None, inputs: Names = None,
                 outputs: Names = None, states: Names = None) -> GIObserver:
     """H∞-optimal GI observer (optionally augmented, optionally coupled).
@@ -302,7 +303,7 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
         ``>= 2`` gives a coupled GI observer.
     weights, region, method, refine, margin, solver, solver_options
         As for :func:`controlext.coupled_observer`.
-    seed, refine_options, executor, options, name
+    seed, refine_options, executor, options, max_gain, name
         As for :func:`controlext.coupled_observer`.
     inputs, outputs, states
         As for :func:`controlext.coupled_observer`.
@@ -332,7 +333,8 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
     options = SynthesisOptions.from_keywords(
         options, margin=margin, method=method, solver=solver,
         solver_options=solver_options, seed=seed, refine=refine,
-        refine_options=refine_options, executor=executor)
+        refine_options=refine_options, executor=executor,
+        max_gain=max_gain)
     what = ("augmented plant (A, C) with the disturbance states "
             "[[A, Bw U], [0, Λ]], [C, U]") if augmented else "plant"
     obs = design(GIObserver, problem, options, decay=decay, region=region,

@@ -173,6 +173,7 @@ def hinf_observer(plant: Plant, decay: float | None = None,
                   refine_options: RefineOptions | dict[str, Any] | None = None,
                   executor: ExecutorLike = None,
                   options: SynthesisOptions | None = None,
+                  max_gain: float | str | None = 'auto',
                   name: str | None = None, inputs: Names = None,
                   outputs: Names = None,
                   states: Names = None) -> LuenbergerObserver:
@@ -226,6 +227,11 @@ def hinf_observer(plant: Plant, decay: float | None = None,
     executor : concurrent.futures.Executor, optional
         Runs the refinement's starts in parallel (results do not depend
         on it).
+    max_gain : float, 'auto' or None, optional
+        Bound on the gain's spectral norm ``‖G‖₂`` in the plant's units,
+        held by refinement and verified; ``'auto'`` (default) bounds it at
+        1e6 times the plant's scale and warns when it binds, ``None``
+        lifts it (:class:`~controlext.synthesis.SynthesisOptions`).
     options : SynthesisOptions, optional
         Every tunable of the engine (``lmi_max_states``, ``modal_guard``,
         …); the keywords above override it where they differ from their
@@ -255,7 +261,8 @@ def hinf_observer(plant: Plant, decay: float | None = None,
     options = SynthesisOptions.from_keywords(
         options, margin=margin, method=method, solver=solver,
         solver_options=solver_options, seed=seed, refine=refine,
-        refine_options=refine_options, executor=executor)
+        refine_options=refine_options, executor=executor,
+        max_gain=max_gain)
     problem = plant_problem(plant, Bw, Dw, Cz)
     return design(LuenbergerObserver, problem, options, decay=decay,
                   region=region, system=dict(name=name, inputs=inputs,

@@ -5,10 +5,14 @@ For a gain ``G`` of an :class:`~controlext.synthesis.problem.ObserverProblem`,
 
     f(G) = ‖T_G‖∞ + τ ‖G‖² + ρ · max(0, g(G) + δ),
 
-where ``g(G)`` is the largest region margin over the eigenvalues of
-``Ae − G Ce`` (``<= 0`` inside the region), and its gradient: that of the
-norm from the singular vectors at the peak frequency, that of the margin
-from the right and left eigenvectors of the critical eigenvalue.
+where ``g(G)`` is the largest constraint margin (``<= 0`` when every
+constraint holds): the region margins over the eigenvalues of
+``Ae − G Ce`` and, with a gain bound ``κ``, ``s (‖W G‖₂ / κ − 1)``
+(``W`` diagonal weights giving the gain in the user's units, ``s`` the
+margins' rate scale); and its gradient: that of the norm from the singular
+vectors at the peak frequency, that of a region margin from the right and
+left eigenvectors of the critical eigenvalue, that of the gain margin from
+the top singular vectors of ``W G``.
 
 One evaluation is one eigendecomposition of the error matrix (it gives the
 stability test, the region margins and the critical eigenvector) and one
@@ -60,6 +64,12 @@ class Objective:
         Weight ``τ`` of ``‖G‖²``.
     peaks : int, optional
         How many recent peak frequencies the line-search bound looks at.
+    gain_bound : float, optional
+        ``κ``: the constraint ``‖W G‖₂ <= κ``.
+    gain_weights : array_like, optional
+        The diagonal of ``W`` (one weight per gain row; default ones).
+    gain_units : float, optional
+        ``s``, the scale of the gain margin against the region margins.
 
     Calling the objective with a flat gain ``x`` returns ``(f, ∇f)``
     (``(f, None)`` with ``grad=False``); outside the stability region
@@ -74,8 +84,11 @@ class Objective:
     """
 
     def __init__(self, problem, region, rho=0.0, delta=0.0, tikhonov=0.0,
-                 peaks=4):
+                 peaks=4, gain_bound=None, gain_weights=None, gain_units=1.0):
         self.prob, self.region = problem, region
+        self.gain_bound, self.gain_units = gain_bound, gain_units
+        self.gain_weights = np.ones(problem.gain_shape[0]) \
+            if gain_weights is None else np.asarray(gain_weights, float)
         self.peaks = peaks
         self.shape = problem.gain_shape
         self.rho, self.delta, self.tikhonov = rho, delta, tikhonov
@@ -95,18 +108,33 @@ class Objective:
 
     # -- pieces -------------------------------------------------------------
 
+    @property
+    def constrained(self):
+        """Is there a constraint (a region or a gain bound)?"""
+        return self.region is not None or self.gain_bound is not None
+
     def _point(self, G):
-        """Error matrix, its eigendecomposition and region margins."""
+        """Error matrix, its eigendecomposition and the worst margin."""
         Acl = self.Ae - G @ self.Ce
         lam, V = np.linalg.eig(Acl)
-        if self.region is None:
-            return Acl, lam, V, -np.inf, None
-        m = self.region.margins(lam)
-        i, j = divmod(int(m.argmax()), m.shape[1])
-        return Acl, lam, V, float(m[i, j]), (i, j)
+        worst, crit = -np.inf, None
+        if self.region is not None:
+            m = self.region.margins(lam)
+            i, j = divmod(int(m.argmax()), m.shape[1])
+            worst, crit = float(m[i, j]), (i, j)
+        if self.gain_bound is not None:
+            U, s, Vh = np.linalg.svd(self.gain_weights[:, None] * G)
+            gm = self.gain_units * (s[0] / self.gain_bound - 1.0)
+            if gm > worst:
+                worst, crit = float(gm), ('gain', U[:, 0], Vh[0])
+        return Acl, lam, V, worst, crit
 
     def _margin_grad(self, lam, V, crit):
-        """Gradient of the critical eigenvalue's margin with respect to G."""
+        """Gradient of the critical margin with respect to G."""
+        if crit[0] == 'gain':
+            _, u, v = crit
+            return self.gain_units / self.gain_bound * np.outer(
+                self.gain_weights * u, v)
         i, j = crit
         # the left eigenvector yᴴ (row i of V⁻¹, so yᴴ x = 1) by one solve
         unit = np.zeros(V.shape[0])
@@ -161,8 +189,8 @@ class Objective:
     # -- public -------------------------------------------------------------
 
     def margin(self, G):
-        """Worst region margin at ``G`` and its gradient."""
-        if self.region is None:
+        """Worst constraint margin at ``G`` and its gradient."""
+        if not self.constrained:
             return -np.inf, np.zeros_like(G)
         _, lam, V, m, crit = self._point(G)
         return m, self._margin_grad(lam, V, crit)

@@ -191,6 +191,13 @@ class SynthesisOptions:
         for the modal stage.
     refine_options : RefineOptions
         The refinement's budget policy (a dict is converted and checked).
+    max_gain : float, 'auto' or None
+        A bound on the gain's spectral norm ``‖G‖₂`` (in the plant's
+        units), held by refinement and verified on the result.  ``'auto'``
+        bounds it at ``1e6`` times the plant's scale (the rate
+        ``max(1, ‖A‖, the region's speed)`` over ``‖C‖``, on a unit-free
+        realisation) and warns when that bound is reached; ``None`` sets
+        no bound.
     """
     margin: float = 1.02
     method: str = 'auto'
@@ -202,6 +209,7 @@ class SynthesisOptions:
     lmi_max_states: int = 40
     modal_guard: float = 0.05
     refine_options: RefineOptions = field(default_factory=RefineOptions)
+    max_gain: float | str | None = 'auto'
 
     def __post_init__(self):
         set_ = lambda name, value: object.__setattr__(self, name, value)
@@ -221,6 +229,13 @@ class SynthesisOptions:
                                                      self.solver_options))
         set_('executor', _check_executor(self.executor))
         set_('refine_options', RefineOptions.coerce(self.refine_options))
+        if self.max_gain is not None and self.max_gain != 'auto':
+            if isinstance(self.max_gain, str):
+                raise ParameterError(f"max_gain must be a positive number, "
+                                     f"'auto' or None; found "
+                                     f"{self.max_gain!r}")
+            set_('max_gain', check_number(self.max_gain, 'max_gain',
+                                          low=0, low_open=True))
 
     def replace(self, **changes: Any) -> SynthesisOptions:
         """A copy with some fields changed (checked again)."""
@@ -248,7 +263,8 @@ class SynthesisOptions:
                                 f"{type(options).__name__}")
         defaults = {f.name: f.default for f in fields(cls)}
         changes = {key: value for key, value in keywords.items()
-                   if not (value is None or value is defaults[key] or
+                   if not ((value is None and key != 'max_gain') or
+                           value is defaults[key] or
                            (isinstance(value, (int, float, str)) and
                             not isinstance(value, bool) and
                             type(value) is type(defaults[key]) and

@@ -77,7 +77,28 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
         return verify_design(problem, problem.unscale_gain(G, d), region,
                              **info)
 
-    G, report = synthesise(scaled, region, options, check=check)
+    bound = gain_bound(scaled, d, options.max_gain, region)
+    try:
+        G, report = synthesise(scaled, region, options, check=check,
+                               bound=bound)
+    except VerificationError:
+        if options.max_gain != 'auto':
+            raise
+        # the default bound is a guard, not a requirement: where no design
+        # within it exists (a nearly unobservable plant), the unbounded
+        # design is returned, with the GainWarning of warn_if_extreme
+        bound = None
+        G, report = synthesise(scaled, region, options, check=check)
+    if bound is not None:
+        norm = float(np.linalg.norm(bound[1][:, None] * G, 2))
+        report.stats['max_gain'] = dict(bound=bound[0], norm=norm)
+        if options.max_gain == 'auto' and norm >= 0.999 * bound[0]:
+            warnings.warn(
+                f"the gain is held at the default bound max_gain='auto' "
+                f"(1e6 times the plant's scale; γ = {report.hinf:.6g}): "
+                "a design of smaller γ needs a larger gain, which amplifies "
+                "rounding and unmodelled noise; pass max_gain=None (or a "
+                "number) to lift the bound", GainWarning, stacklevel=3)
     warn_if_extreme(scaled, G, report, region)
     G = problem.unscale_gain(G, d)
     floor = report.stats.get('floor_level', _no_floor)
@@ -107,7 +128,30 @@ def needs_refinement(problem, region):
     return region is not None or problem.copies > 1
 
 
-def synthesise(problem, region, options, convex=None, check=None):
+def gain_bound(scaled, d, max_gain, region=None):
+    """``(κ, weights)`` of the constraint ``‖diag(weights) G‖₂ <= κ`` on
+    gains ``G`` of the scaled problem (None without a bound): a number
+    bounds the gain in the plant's units (the weights undo the scaling
+    ``d``), ``'auto'`` at ``EXTREME`` times the plant's scale on the
+    unit-free realisation (see :func:`warn_if_extreme`)."""
+    if max_gain is None:
+        return None
+    if max_gain == 'auto':
+        return (EXTREME * _rate(scaled, region) /
+                max(np.linalg.norm(scaled.C, 2), 1e-300),
+                np.ones(scaled.gain_shape[0]))
+    return float(max_gain), np.kron(np.ones(scaled.copies), d)
+
+
+def _rate(problem, region):
+    rate = max(1.0, np.linalg.norm(problem.A, 2))
+    if region is not None and not problem.dt:
+        rate = max(rate, -region.stable_interval()[1])
+    return rate
+
+
+def synthesise(problem, region, options, convex=None, check=None,
+               bound=None):
     """Convex stage, refinement where it is conservative, verification.
 
     Parameters
@@ -124,6 +168,9 @@ def synthesise(problem, region, options, convex=None, check=None):
         ``check(G, **facts) -> DesignReport`` verifies a candidate gain
         (default :func:`verify_design` on ``problem``); a candidate it
         refuses is dropped, so the design returned is one it verified.
+    bound : (float, ndarray), optional
+        The gain bound ``(κ, weights)`` of :func:`gain_bound`: refinement
+        holds it, and a candidate above it is refused.
 
     Returns
     -------
@@ -135,11 +182,32 @@ def synthesise(problem, region, options, convex=None, check=None):
     if check is None:
         def check(G, **info):
             return verify_design(problem, G, region, **info)
+    verify = check
+
+    def check(G, **info):
+        if bound is not None:
+            norm = np.linalg.norm(bound[1][:, None] * G, 2)
+            if norm > bound[0] * (1 + 1e-6):
+                raise VerificationError(
+                    f"the {info.get('stage', 'convex')} design's gain norm "
+                    f"{norm:.6g} exceeds max_gain = {bound[0]:.6g}")
+        return verify(G, **info)
+
     if convex is None:
         convex = convex_stage(problem, region, options)
     best = convex.report
-    if best is not None and not (options.refine and
-                                 needs_refinement(problem, region)):
+    within = bound is None or np.linalg.norm(
+        bound[1][:, None] * convex.G, 2) <= bound[0] * (1 + 1e-6)
+    if best is not None and not (options.refine and (
+            needs_refinement(problem, region) or not within)):
+        if not within and bound is not None:
+            # the convex stage does not hold the bound; refinement does
+            warnings.warn(
+                f"the convex design's gain norm exceeds the bound "
+                f"{bound[0]:.6g} (refine=False returns it as it is)",
+                GainWarning, stacklevel=4)
+            return convex.G, verify(convex.G, convex=convex,
+                                    gamma_bound=convex.gamma_bound)
         return convex.G, check(convex.G, convex=convex,
                                gamma_bound=convex.gamma_bound)
     if best is not None and best.hinf <= _equal(0.0, problem):
@@ -154,7 +222,9 @@ def synthesise(problem, region, options, convex=None, check=None):
         single = options if options.method != 'lmi' else \
             options.replace(method='auto')
         G1, rep1 = synthesise(problem.single(), region, single,
-                              convex=convex.luenberger)
+                              convex=convex.luenberger, bound=None if
+                              bound is None else (bound[0], bound[1][
+                                  :problem.n]))
         starts.append(('luenberger', problem.embed(G1)))
         floor = filter_floor(problem, options.solver,
                              max_states=options.lmi_max_states)
@@ -168,14 +238,20 @@ def synthesise(problem, region, options, convex=None, check=None):
                 f"level γ∞* = {floor:.6g} (γ = {rep1.hinf:.6g}): no "
                 "observer of any structure or order can do better, so the "
                 "copies were not refined")
-            report = check(problem.embed(G1), method=f'{convex.method}+'
-                           'headroom', stage='luenberger', convex=convex,
-                           stats=stats)
-            return problem.embed(G1), report
+            try:
+                report = check(problem.embed(G1), method=f'{convex.method}'
+                               '+headroom', stage='luenberger',
+                               convex=convex, stats=stats)
+            except VerificationError:
+                del stats['headroom']
+            else:
+                return problem.embed(G1), report
     try:
         res = refine_gain(problem, region, starts,
                           options=options.refine_options, seed=options.seed,
-                          executor=options.executor)
+                          executor=options.executor,
+                          gain_bound=None if bound is None else bound[0],
+                          gain_weights=None if bound is None else bound[1])
     except VerificationError as exc:
         # the convex design is verified already: keep it, say why
         stats['refine'] = dict(failed=str(exc))
@@ -205,7 +281,8 @@ def synthesise(problem, region, options, convex=None, check=None):
                   convex.stats.get('fallback', [])]
         raise VerificationError(
             "no candidate design verified (" + "; ".join(steps) + "); try "
-            "a looser region or a larger margin=")
+            "a looser region or a larger margin=" +
+            ("" if bound is None else " or max_gain="))
     # the smallest true norm wins; designs equal to within a tolerance are
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
     # of γ cost unbounded gains)
@@ -241,9 +318,7 @@ def warn_if_extreme(problem, G, report, region=None):
     :meth:`~controlext.synthesis.ObserverProblem.state_scaling`: the
     rate ``max(1, ‖A‖, the region's least speed)`` for the poles, that
     rate over ``‖C‖`` for the gain."""
-    rate = max(1.0, np.linalg.norm(problem.A, 2))
-    if region is not None and not problem.dt:
-        rate = max(rate, -region.stable_interval()[1])
+    rate = _rate(problem, region)
     gain = np.linalg.norm(G, 2) / (rate / max(np.linalg.norm(problem.C, 2),
                                               1e-300))
     fastest = float(np.max(np.abs(report.poles))) / rate \

@@ -81,8 +81,8 @@ class RefineResult:
 
 
 def _make_feasible(obj, G, target, maxiter=200):
-    """Push the worst region margin below ``target`` (phase 1)."""
-    if obj.region is None or obj.margin(G)[0] <= target:
+    """Push the worst constraint margin below ``target`` (phase 1)."""
+    if not obj.constrained or obj.margin(G)[0] <= target:
         return G
 
     def f(x, grad=True, above=None):
@@ -211,7 +211,8 @@ def _polish_step(args):
             x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=1e-9)
             run.update(x=x, value=fnew, fx=fnew, restart=run['restart'] + 1)
             if not fnew < fx - 1e-7 * abs(fx) or run['restart'] > restarts:
-                if obj.region is None or run['escalation'] >= escalations \
+                if not obj.constrained or \
+                        run['escalation'] >= escalations \
                         or obj.margin(x.reshape(obj.shape))[0] <= 0:
                     run['stop'] = True
                 else:
@@ -274,7 +275,7 @@ def _rate_scale(problem, G):
 
 
 def refine_gain(problem, region, starts, *, options=None, seed=0,
-                executor=None):
+                executor=None, gain_bound=None, gain_weights=None):
     """Minimise the true H∞ norm over the gain, inside ``region``.
 
     Parameters
@@ -307,6 +308,9 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         Runs the screening and polishing of the starts in parallel (any
         executor: a ``ProcessPoolExecutor``, or a Dask one).  The result
         does not depend on it: the options travel with every call.
+    gain_bound, gain_weights : optional
+        The constraint ``‖diag(gain_weights) G‖₂ <= gain_bound``, held
+        like the region (an exact penalty; the result satisfies it).
 
     Returns
     -------
@@ -360,7 +364,9 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         rho = opts.rho_scale * g0 / _rate_scale(problem, given[0][1])
     G1 = given[0][1]
     reg = opts.tikhonov * max(g0, 1e-3) / max(1.0, float(np.sum(G1 * G1)))
-    obj = Objective(problem, region, rho, opts.delta, reg, opts.peaks)
+    obj = Objective(problem, region, rho, opts.delta, reg, opts.peaks,
+                    gain_bound=gain_bound, gain_weights=gain_weights,
+                    gain_units=_rate_scale(problem, G1))
 
     # random starts of large gains are often far outside the region: give
     # the feasibility push fewer steps there (each costs an eigen-
@@ -410,9 +416,12 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         if results:
             break
     if not results:
+        bound = '' if gain_bound is None else \
+            f" and a gain norm of at most {gain_bound:.6g}"
         raise VerificationError(
             "refinement found no gain with the error poles in "
-            f"{region if region is not None else 'the stability region'}")
+            f"{region if region is not None else 'the stability region'}"
+            f"{bound}")
     results.sort(key=lambda item: item[0])
     gamma, label, G = results[0]
     return RefineResult(G=G, gamma=float(gamma), start=label,

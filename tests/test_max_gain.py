@@ -1,0 +1,105 @@
+"""max_gain=: a bound on ‖G‖₂ held by refinement and verified, on every
+kind; against closed forms and independent evaluation of the result."""
+
+import sys
+import pathlib
+import warnings
+
+import numpy as np
+import pytest
+import control as ct
+
+import controlext as cx
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+from test_robustness import AXIS  # noqa: E402
+
+UNSTABLE = ct.ss([[1.0]], [[1.0]], [[1.0]], 0)
+
+
+@pytest.mark.parametrize('bound', [100.0, 10.0])
+def test_unstable_scalar_closed_form(bound):
+    """x' = x, y = x + w, decay 2: e' = (1 − L) e + L w has γ = L / (L − 1),
+    decreasing in L, so the bounded optimum is L = κ exactly."""
+    obs = cx.hinf_observer(UNSTABLE, decay=2.0, max_gain=bound)
+    L = float(obs.L[0, 0])
+    assert L == pytest.approx(bound, rel=1e-6)
+    assert L <= bound * (1 + 1e-6)
+    assert obs.hinf == pytest.approx(bound / (bound - 1), rel=1e-6)
+    assert obs.report.stats['max_gain']['norm'] <= bound * (1 + 1e-6)
+
+
+def test_unbounded_is_larger():
+    free = cx.hinf_observer(UNSTABLE, decay=2.0, max_gain=None)
+    bounded = cx.hinf_observer(UNSTABLE, decay=2.0, max_gain=10.0)
+    assert np.linalg.norm(free.G) > 10
+    assert free.hinf < bounded.hinf
+
+
+def test_cart_pendulum_pays_little_for_a_bounded_gain():
+    """Cart–pendulum at decay 2: the unbounded design needs ‖L‖ ≈ 1e4;
+    ‖L‖ ≤ 1000 costs a few per cent of γ, and tightening the bound moves
+    γ up (monotone)."""
+    plant = AXIS['cart-pendulum']
+    free = cx.hinf_observer(plant, decay=2.0, max_gain=None)
+    gammas = []
+    for bound in (3000.0, 1000.0, 300.0):
+        obs = cx.hinf_observer(plant, decay=2.0, max_gain=bound)
+        assert np.linalg.norm(obs.L, 2) <= bound * (1 + 1e-6)
+        assert obs.decay >= 2.0 - 1e-6
+        # the norm of the returned gain, rebuilt by hand on a grid
+        A, C = plant.A, plant.C
+        w = np.logspace(-2, 3, 3000)
+        peak = max(np.linalg.svd(np.linalg.solve(
+            1j * x * np.eye(4) - (A - obs.L @ C), obs.L), compute_uv=False)[0]
+            for x in w)
+        assert obs.hinf >= peak * (1 - 1e-6)
+        gammas.append(obs.hinf)
+    assert np.linalg.norm(free.L, 2) > 3000
+    assert free.hinf <= gammas[0] <= gammas[1] <= gammas[2]
+    assert gammas[1] <= 1.05 * free.hinf
+
+
+@pytest.mark.parametrize('make', [
+    lambda kw: cx.coupled_observer(ct.ss([[-0.5]], [[1.0]], [[1.0]], 0),
+                                   decay=2.5, **kw),
+    lambda kw: cx.gi_observer(ct.ss([[1.0, 1.0], [0.0, -2.0]], [[0.0], [1.0]],
+                                    [[1.0, 0.0], [1.0, 0.0]], 0),
+                              [[-0.5, 0.2], [0.0, 1.0]], decay=3.0,
+                              augmented=True, **kw),
+    lambda kw: cx.hinf_observer(ct.c2d(UNSTABLE, 0.1), decay=2.0, **kw),
+], ids=['coupled', 'gi-augmented', 'discrete'])
+def test_every_kind_holds_the_bound(make):
+    free = make(dict(max_gain=None))
+    bound = 0.5 * np.linalg.norm(free.G, 2)
+    obs = make(dict(max_gain=bound))
+    assert np.linalg.norm(obs.G, 2) <= bound * (1 + 1e-6)
+    assert obs.hinf >= free.hinf * (1 - 1e-3)
+
+
+def test_bound_in_the_plants_units():
+    """The bound is on the gain in the plant's own units, also where the
+    synthesis runs on a rescaled realisation: the cart–pendulum with its
+    positions in km and its angles in hundredths of a radian."""
+    P = AXIS['cart-pendulum']
+    T = np.diag([1e-3, 1e-3, 1e2, 1e2])
+    plant = ct.ss(T @ P.A @ np.linalg.inv(T), T @ P.B,
+                  P.C @ np.linalg.inv(T), 0)
+    free = cx.hinf_observer(plant, decay=2.0, max_gain=None)
+    bound = 0.1 * np.linalg.norm(free.L, 2)
+    obs = cx.hinf_observer(plant, decay=2.0, max_gain=bound)
+    assert np.linalg.norm(obs.L, 2) == pytest.approx(bound, rel=1e-6)
+    assert obs.decay >= 2.0 - 1e-6
+    assert obs.hinf <= 1.01 * free.hinf
+
+
+def test_options_checked_before_any_solve():
+    for bad, exc in [('big', cx.ParameterError), (-1.0, cx.ParameterError),
+                     (0.0, cx.ParameterError), (True, cx.ArgumentError)]:
+        with pytest.raises(exc, match='max_gain'):
+            cx.SynthesisOptions(max_gain=bad)
+
+
+def test_refine_false_says_the_bound_is_not_held():
+    with pytest.warns(cx.GainWarning, match='refine=False'):
+        cx.hinf_observer(UNSTABLE, decay=2.0, max_gain=1.5, refine=False)
