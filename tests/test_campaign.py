@@ -37,6 +37,7 @@ def test_augmented_gi_on_badly_scaled_plants(seed):
     assert details[0][5] == 'verified', details[0]
 
 
+@pytest.mark.slow
 def test_fragile_design_is_not_silent():
     """Campaign seed 297 (a defective discrete plant, a small disk): the
     design's error grows 2.6e6-fold before it decays, and the estimator
