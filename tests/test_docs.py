@@ -91,3 +91,11 @@ def test_observer_page_shows_its_own_methods_first(built):
     assert 'controlext.Observer.bode_plot' not in html
     assert 'controlext.Observer.lft' not in html
     assert own > 0
+
+
+@pytest.mark.slow
+def test_tradeoff_page_has_its_figure(built):
+    html = (built / 'tradeoffs.html').read_text()
+    figures = re.findall(r'<img[^>]+src="(_images/tradeoffs[^"]+\.png)"',
+                         html)
+    assert len(figures) == 1 and 'cx.compare' in html
