@@ -102,6 +102,8 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
     warn_if_extreme(scaled, G, report, region)
     G = problem.unscale_gain(G, d)
     floor = report.stats.get('floor_level', _no_floor)
+    if report.hinf <= _equal(0.0, problem):
+        floor = 0.0 if floor is _no_floor else floor     # 0 <= floor <= γ
     if floor is _no_floor:
         floor = filter_floor(problem, options.solver,
                              max_states=options.lmi_max_states)
