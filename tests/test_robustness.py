@@ -2,6 +2,8 @@
 refusal.  Each case names its independent reason: an observability rank,
 a closed-form norm, the other convex route, a placed design."""
 
+import pathlib
+import sys
 import warnings
 
 import numpy as np
@@ -12,6 +14,9 @@ import cvxpy as cp
 import controlext as cx
 from conftest import unstable_plant
 
+sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
+from plants import PUBLIC  # noqa: E402
+
 README_PLANT = ct.ss([[-1, 1], [-1, 0]], [[0], [1]], [[1, 2]], 0)
 SCALAR = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
 
@@ -20,16 +25,10 @@ AXIS = {
     'double integrator': ct.ss([[0, 1], [0, 0]], [[0], [1]], [[1, 0]], 0),
     'dc motor, angle measured': ct.ss([[0, 1], [0, -10]], [[0], [5]],
                                       [[1, 0]], 0),
-    'cart-pendulum': ct.ss([[0, 1, 0, 0], [0, 0, -0.98, 0], [0, 0, 0, 1],
-                            [0, 0, 21.56, 0]], [[0], [1], [0], [-2]],
-                           [[1, 0, 0, 0], [0, 0, 1, 0]], 0),
+    # the public benchmark plants (sources in benchmarks/plants.py)
+    'cart-pendulum': PUBLIC['cart-pendulum'],
     # COMPleib AC1 (Hung & MacFarlane's aircraft): a mode at s = 0
-    'AC1': ct.ss([[0, 0, 1.132, 0, -1], [0, -0.0538, -0.1712, 0, 0.0705],
-                  [0, 0, 0, 1, 0], [0, 0.0485, 0, -0.8556, -1.013],
-                  [0, -0.2909, 0, 1.0532, -0.6859]],
-                 [[0, 0, 0], [-0.12, 1, 0], [0, 0, 0], [4.419, 0, -1.665],
-                  [1.575, 0, -0.0732]],
-                 [[1, 0, 0, 0, 0], [0, 1, 0, 0, 0], [0, 0, 1, 0, 0]], 0),
+    'AC1': PUBLIC['AC1'],
 }
 
 
