@@ -120,8 +120,12 @@ class Observer(ct.StateSpace):
                 f"stage={self.report.stage!r}>")
 
     def __str__(self):
-        gain = np.array2string(self._G, precision=4, suppress_small=True,
-                               max_line_width=78)
+        # enough digits that the printed gain keeps the promised region
+        digits = 4 if self.report.tradeoff is None else \
+            max(4, self.report.tradeoff.digits)
+        gain = np.array2string(self._G, max_line_width=78, formatter={
+            'float_kind': lambda x: f"{x:.{digits - 1}e}"
+            if digits > 4 else f"{x: .4g}"})
         trade = [] if self.report.tradeoff is None else \
             ['trade-off:', str(self.report.tradeoff)]
         return '\n'.join([self._summary(), str(self.report),
@@ -139,7 +143,8 @@ class Observer(ct.StateSpace):
             self.report.tradeoff = tradeoff_of(
                 self.problem, self._G, self.name,
                 floor=filter_floor(self.problem),
-                luenberger=self.hinf if self.copies == 1 else None)
+                luenberger=self.hinf if self.copies == 1 else None,
+                region=self.report.region)
         return self.report.tradeoff
 
     def _repr_html_(self):

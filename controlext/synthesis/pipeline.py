@@ -110,7 +110,7 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
     report.tradeoff = tradeoff_of(
         problem, G, system['name'] or '', floor=floor,
         luenberger=report.hinf if problem.copies == 1 else
-        report.stats.get('luenberger_hinf'))
+        report.stats.get('luenberger_hinf'), region=region)
     if report.tradeoff.peak > EXTREME:
         # an initial error (or a rounding error) grows this much before
         # it decays: the estimator reproduces its error system only to

@@ -19,7 +19,12 @@
 * ``sensitivity`` — how much decay rate the design loses, at worst over
   random relative perturbations of its gain entries of size 1e-6 and 1e-3
   (a nearly defective pole cluster at the region's edge loses much more
-  than a well-conditioned one).
+  than a well-conditioned one);
+* ``digits`` — how many significant digits the gain's entries need so
+  that the rounded gain still has its error poles in the region (to the
+  verification's tolerance): a user who types the printed gains into a
+  controller gets the promised decay when they are printed to this many
+  (``str(obs)`` does).
 
 Examples
 --------
@@ -41,13 +46,14 @@ import scipy.linalg as la
 
 from .._typing import Array, ArrayLike
 from ..norms import hinfnorm_matrices
-from .verify import decay_rate
+from .verify import REGION_TOL, decay_rate
 
 if TYPE_CHECKING:
     from .problem import ObserverProblem
+    from .regions import Region
 
 __all__ = ['Tradeoff', 'tradeoff_of', 'h2_norm', 'transient',
-           'decay_sensitivity']
+           'decay_sensitivity', 'digits_needed']
 
 #: relative gain perturbations the sensitivity is reported for
 PERTURBATIONS = (1e-6, 1e-3)
@@ -68,6 +74,7 @@ class Tradeoff:
     settling_time: float
     decay: float
     sensitivity: dict[float, float] = field(default_factory=dict)
+    digits: int = 17
 
     def as_dict(self) -> dict[str, Any]:
         """The numbers as a plain dictionary."""
@@ -98,7 +105,9 @@ class Tradeoff:
             f"averaged error from e(0)  peak {self.peak:.4g}, 2 % settling "
             f"{self.settling_time:.4g} s",
             f"decay {self.decay:.6g}, ‖G‖ {self.gain_norm:.4g}, decay lost "
-            f"under relative gain errors {{{sens}}}"])
+            f"under relative gain errors {{{sens}}}",
+            f"the gain keeps its region rounded to {self.digits} "
+            "significant digits"])
 
 
 def h2_norm(A: ArrayLike, B: ArrayLike, C: ArrayLike, dt: float = 0) -> float:
@@ -197,11 +206,33 @@ def decay_sensitivity(problem: ObserverProblem, G: ArrayLike,
     return float(worst)
 
 
+def digits_needed(problem: ObserverProblem, G: ArrayLike,
+                  region: Region | None = None) -> int:
+    """The fewest significant digits (3-17) to which the entries of ``G``
+    can be rounded with the error poles still in ``region`` (or stable),
+    to the verification's tolerance."""
+    G = np.asarray(G, dtype=float)
+    for digits in range(3, 18):
+        Gr = np.array([[float(f"{x:.{digits - 1}e}") for x in row]
+                       for row in G]) if G.size else G
+        poles = la.eigvals(problem.error_system(Gr)[0])
+        if decay_rate(poles, problem.dt) <= 0:
+            continue
+        if region is None:
+            return digits
+        scale = max(1.0, float(np.max(np.abs(poles))) if poles.size
+                    else 1.0)
+        if region.worst_margin(poles) <= REGION_TOL * scale:
+            return digits
+    return 17
+
+
 def tradeoff_of(problem: ObserverProblem, G: ArrayLike, name: str = '',
                 *, floor: float | None = None,
-                luenberger: float | None = None) -> Tradeoff:
+                luenberger: float | None = None,
+                region: Region | None = None) -> Tradeoff:
     """The :class:`Tradeoff` of gain ``G`` on ``problem`` (``floor`` and
-    ``luenberger`` as known to the caller)."""
+    ``luenberger`` as known to the caller; ``region`` the design's)."""
     G = np.asarray(G, dtype=float)
     Acl, Bcl, Ccl, Dcl = problem.error_system(G)
     poles = la.eigvals(Acl)
@@ -214,4 +245,5 @@ def tradeoff_of(problem: ObserverProblem, G: ArrayLike, name: str = '',
         h2=h2_norm(Acl, Bcl, Ccl, problem.dt), peak=peak,
         settling_time=settle, decay=float(decay_rate(poles, problem.dt)),
         sensitivity={eps: decay_sensitivity(problem, G, eps)
-                     for eps in PERTURBATIONS})
+                     for eps in PERTURBATIONS},
+        digits=digits_needed(problem, G, region))
