@@ -34,6 +34,7 @@ from .maps import DesignMap, design_map
 # trade-offs side by side, with the Kalman filter  (compare.py)
 from .compare import Comparison, compare, kalman_observer
 from .synthesis.tradeoff import Tradeoff
+from .sweep import Sweep, sweep, sweep_plot
 # plots (matplotlib, optional)  (plot.py)
 from .plot import (error_plot, estimate_plot, tradeoff_plot,
                    design_map_plot, pole_region_plot)
@@ -56,5 +57,5 @@ __all__ = [
     'tradeoff_curve', 'simulate', 'DesignMap', 'design_map',
     'error_plot', 'estimate_plot', 'tradeoff_plot', 'design_map_plot',
     'pole_region_plot', 'Comparison', 'compare', 'kalman_observer',
-    'Tradeoff',
+    'Tradeoff', 'Sweep', 'sweep', 'sweep_plot',
 ]
