@@ -34,10 +34,10 @@ from .maps import DesignMap, design_map
 # trade-offs side by side, with the Kalman filter  (compare.py)
 from .compare import Comparison, compare, kalman_observer
 from .synthesis.tradeoff import Tradeoff
-from .sweep import Sweep, sweep, sweep_plot
+from .sweep import Sweep, sweep
 # plots (matplotlib, optional)  (plot.py)
 from .plot import (error_plot, estimate_plot, tradeoff_plot,
-                   design_map_plot, pole_region_plot)
+                   design_map_plot, pole_region_plot, sweep_plot)
 
 __version__ = '0.1.0'
 

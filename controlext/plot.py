@@ -30,9 +30,10 @@ if TYPE_CHECKING:
     from .maps import DesignMap
     from .observers import Observer
     from .synthesis import Region
+    from .sweep import Sweep
 
 __all__ = ['error_plot', 'estimate_plot', 'tradeoff_plot',
-           'design_map_plot', 'pole_region_plot']
+           'design_map_plot', 'pole_region_plot', 'sweep_plot']
 
 
 def _plt():
@@ -295,3 +296,38 @@ def pole_region_plot(obs_or_poles: Observer | ArrayLike,
     a.set_title(title or (f'Error poles in {region}' if region is not None
                           else 'Error poles'))
     return _finish(a, lines, ax, fig, loc='upper left')
+
+
+def sweep_plot(result: Sweep, y: str = 'hinf', x: str | None = None,
+               ax: Any = None, title: str | None = None) -> Any:
+    """Metric ``y`` against the swept values, or against metric ``x``
+    with the Pareto front drawn (``x='settling_time'`` or ``x='h2'``).
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> import controlext as cx
+    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
+    >>> s = cx.sweep(plant, 'decay', [1.0, 2.5])
+    >>> len(cx.sweep_plot(s).lines[0, 0])
+    1
+    """
+    fig, axes = _axes(ax)
+    a = axes[0, 0]
+    ys = result.metric(y)
+    if x is None:
+        lines = a.plot(result.values, ys, 'o-', label=y)
+        a.set_xlabel(result.parameter)
+    else:
+        xs = result.metric(x)
+        lines = a.plot(xs, ys, 'o', label='designs')
+        front = result.front(x, y)
+        lines += a.plot(xs[front], ys[front], 'k--', lw=1,
+                        label='Pareto front')
+        for k, v in enumerate(result.values):
+            a.annotate(f"{v:g}" if isinstance(v, float) else str(v),
+                       (xs[k], ys[k]), fontsize=8)
+        a.set_xlabel(x)
+    a.set_ylabel(y)
+    a.set_title(title or f"{y} over {result.parameter}")
+    return _finish(a, lines, axes, fig)

@@ -5,7 +5,7 @@ or ``max_gain`` (the others fixed) and returns every design's
 :class:`~controlext.synthesis.tradeoff.Tradeoff`; :meth:`Sweep.front`
 keeps the designs no other one beats in two of its numbers at once (the
 Pareto front of, say, γ against settling time or against the H2 norm),
-and :func:`sweep_plot` draws either.  The points run on ``executor=``
+and :func:`~controlext.sweep_plot` draws either.  The points run on ``executor=``
 when one is given (the results do not depend on it).
 
 Examples
@@ -32,7 +32,7 @@ from ._typing import ExecutorLike, Plant
 from .exceptions import ArgumentError
 from .synthesis.tradeoff import Tradeoff
 
-__all__ = ['Sweep', 'sweep', 'sweep_plot']
+__all__ = ['Sweep', 'sweep']
 
 PARAMETERS = ('decay', 'copies', 'max_gain')
 METRICS = ('hinf', 'h2', 'gain_norm', 'peak', 'settling_time', 'decay')
@@ -124,39 +124,3 @@ def sweep(plant: Plant, parameter: str, values: Sequence[Any], *,
     for value, row in zip(values, rows):
         row.name = f"{parameter} = {value}"
     return Sweep(parameter, values, rows)
-
-
-def sweep_plot(result: Sweep, y: str = 'hinf', x: str | None = None,
-               ax: Any = None, title: str | None = None) -> Any:
-    """Metric ``y`` against the swept values, or against metric ``x``
-    with the Pareto front drawn (``x='settling_time'`` or ``x='h2'``).
-
-    Examples
-    --------
-    >>> import control as ct
-    >>> import controlext as cx
-    >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
-    >>> s = cx.sweep(plant, 'decay', [1.0, 2.5])
-    >>> len(cx.sweep_plot(s).lines[0, 0])
-    1
-    """
-    from .plot import _axes, _finish
-    fig, axes = _axes(ax)
-    a = axes[0, 0]
-    ys = result.metric(y)
-    if x is None:
-        lines = a.plot(result.values, ys, 'o-', label=y)
-        a.set_xlabel(result.parameter)
-    else:
-        xs = result.metric(x)
-        lines = a.plot(xs, ys, 'o', label='designs')
-        front = result.front(x, y)
-        lines += a.plot(xs[front], ys[front], 'k--', lw=1,
-                        label='Pareto front')
-        for k, v in enumerate(result.values):
-            a.annotate(f"{v:g}" if isinstance(v, float) else str(v),
-                       (xs[k], ys[k]), fontsize=8)
-        a.set_xlabel(x)
-    a.set_ylabel(y)
-    a.set_title(title or f"{y} over {result.parameter}")
-    return _finish(a, lines, axes, fig)

@@ -218,11 +218,19 @@ def _routes(problem, region, options):
     other = [name for name in ('SCS', 'CLARABEL')
              if name != options.solver_name and name in _installed()]
     if other and options.solver is None:
-        again = options.replace(solver=other[0])
+        # a fallback, so a bounded one (SCS took 70 s a solve on a
+        # 10-state discrete plant it could not solve either)
+        again = options.replace(solver=other[0],
+                                solver_options=FALLBACK_OPTIONS[other[0]])
         routes.append((f'lmi ({other[0]})',
                        lambda: _lmi_design(problem, region, again)))
     routes.append(('placement', lambda: _placed_design(problem, region)))
     return routes
+
+
+#: the fallback solver's budget: a few seconds per stage
+FALLBACK_OPTIONS = {'SCS': {'max_iters': 20000, 'time_limit_secs': 10.0},
+                    'CLARABEL': {'time_limit': 10.0}}
 
 
 def _installed():

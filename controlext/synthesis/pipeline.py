@@ -78,17 +78,19 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
                              **info)
 
     bound = gain_bound(scaled, d, options.max_gain, region)
+    convex = convex_stage(scaled, region, options)      # bound-free
     try:
-        G, report = synthesise(scaled, region, options, check=check,
-                               bound=bound)
-    except VerificationError:
-        if options.max_gain != 'auto':
+        G, report = synthesise(scaled, region, options, convex=convex,
+                               check=check, bound=bound)
+    except VerificationError as exc:
+        if options.max_gain != 'auto' or not getattr(exc, 'bounded', False):
             raise
         # the default bound is a guard, not a requirement: where no design
         # within it exists (a nearly unobservable plant), the unbounded
         # design is returned, with the GainWarning of warn_if_extreme
         bound = None
-        G, report = synthesise(scaled, region, options, check=check)
+        G, report = synthesise(scaled, region, options, convex=convex,
+                               check=check)
     if bound is not None:
         norm = float(np.linalg.norm(bound[1][:, None] * G, 2))
         report.stats['max_gain'] = dict(bound=bound[0], norm=norm)
@@ -293,10 +295,16 @@ def synthesise(problem, region, options, convex=None, check=None,
             steps.append(f"refinement: {stats['refine']['failed']}")
         steps += [f"{name}: {why}" for name, why in
                   convex.stats.get('fallback', [])]
-        raise VerificationError(
+        refusal = VerificationError(
             "no candidate design verified (" + "; ".join(steps) + "); try "
             "a looser region or a larger margin=" +
             ("" if bound is None else " or max_gain="))
+        # did the gain bound refuse a candidate (a retry without it may
+        # find a design)?
+        refusal.bounded = bound is not None and any(
+            'max_gain' in why or 'gain norm of at most' in why
+            for why in steps)
+        raise refusal
     # the smallest true norm wins; designs equal to within a tolerance are
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
     # of γ cost unbounded gains)
