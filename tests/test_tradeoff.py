@@ -161,3 +161,15 @@ def test_printed_gain_keeps_the_decay():
                       for row in obs.G])
     poles = la.eigvals(obs.problem.error_system(fewer)[0])
     assert poles.real.max() > -2.5 + 1e-6 * max(1, np.abs(poles).max())
+
+
+def test_slow_discrete_transient_closed_form():
+    """e(k) = a^k with a = 1 − 1e-6: the 2 % band is crossed at the first
+    k with a^k <= 0.02 — 3.9 million steps, sampled with a stride (one
+    step at a time, a marginal plant of the campaign took 24 GB)."""
+    from controlext.synthesis.tradeoff import transient
+    a = 1 - 1e-6
+    prob = ObserverProblem([[a + 0.5]], [[1.0]], dt=1.0)
+    peak, settle = transient(prob, [[0.5]])
+    assert peak == pytest.approx(1.0)
+    assert settle == np.ceil(np.log(0.02) / np.log(a))
