@@ -321,25 +321,10 @@ def tradeoff_curve(plant: Plant, decays: ArrayLike,
     >>> [round(float(g), 4) for g in curve[1]]
     [0.8]
     """
+    from .sweep import sweep
     decays = np.asarray(decays, dtype=float)
-    data = (np.array(plant.A), np.array(plant.B), np.array(plant.C),
-            np.array(plant.D), plant.dt)
-    jobs = [(data, float(sigma), N, kwargs) for N in copies
-            for sigma in decays]
-    values = list(executor.map(_tradeoff_point, jobs) if executor
-                  else map(_tradeoff_point, jobs))
-    out: dict[Any, Array] = {'decay': np.asarray(decays, dtype=float)}
-    for k, N in enumerate(copies):
-        out[N] = np.array(values[k * len(decays):(k + 1) * len(decays)])
+    out: dict[Any, Array] = {'decay': decays}
+    for N in copies:
+        out[N] = sweep(plant, 'decay', list(decays), copies=N,
+                       executor=executor, **kwargs).metric('hinf')
     return out
-
-
-def _tradeoff_point(job):
-    """One design of a trade-off curve (module level: picklable)."""
-    from .coupled import coupled_observer
-    from .luenberger import hinf_observer
-    (A, B, C, D, dt), sigma, N, kwargs = job
-    plant = ct.ss(A, B, C, D, dt)
-    obs = hinf_observer(plant, decay=sigma, **kwargs) if N == 1 \
-        else coupled_observer(plant, decay=sigma, copies=N, **kwargs)
-    return obs.hinf

@@ -142,9 +142,7 @@ class Observer(ct.StateSpace):
         if self.report.tradeoff is None:
             self.report.tradeoff = tradeoff_of(
                 self.problem, self._G, self.name,
-                floor=filter_floor(self.problem),
-                luenberger=self.hinf if self.copies == 1 else None,
-                region=self.report.region)
+                floor=filter_floor(self.problem), region=self.report.region)
         return self.report.tradeoff
 
     def _repr_html_(self):

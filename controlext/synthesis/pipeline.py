@@ -92,7 +92,7 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
         G, report = synthesise(scaled, region, options, convex=convex,
                                check=check)
     if bound is not None:
-        norm = float(np.linalg.norm(bound[1][:, None] * G, 2))
+        norm = _bounded_norm(bound, G)
         report.stats['max_gain'] = dict(bound=bound[0], norm=norm)
         if options.max_gain == 'auto' and norm >= 0.999 * bound[0]:
             warnings.warn(
@@ -111,8 +111,7 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
                              max_states=options.lmi_max_states)
     report.tradeoff = tradeoff_of(
         problem, G, system['name'] or '', floor=floor,
-        luenberger=report.hinf if problem.copies == 1 else
-        report.stats.get('luenberger_hinf'), region=region)
+        luenberger=report.stats.get('luenberger_hinf'), region=region)
     if report.tradeoff.peak > EXTREME:
         # an initial error (or a rounding error) grows this much before
         # it decays: the estimator reproduces its error system only to
@@ -153,17 +152,23 @@ def gain_bound(scaled, d, max_gain, region=None):
     if max_gain is None:
         return None
     if max_gain == 'auto':
-        return (EXTREME * _rate(scaled, region) /
-                max(np.linalg.norm(scaled.C, 2), 1e-300),
+        return (EXTREME * _scales(scaled, region)[1],
                 np.ones(scaled.gain_shape[0]))
     return float(max_gain), np.kron(np.ones(scaled.copies), d)
 
 
-def _rate(problem, region):
+def _bounded_norm(bound, G):
+    """``‖diag(weights) G‖₂`` of a bound ``(κ, weights)``."""
+    return float(np.linalg.norm(bound[1][:, None] * G, 2))
+
+
+def _scales(problem, region):
+    """The plant's scale: the rate ``max(1, ‖A‖, the region's least
+    speed)`` and the gain ``rate / ‖C‖``."""
     rate = max(1.0, np.linalg.norm(problem.A, 2))
     if region is not None and not problem.dt:
         rate = max(rate, -region.stable_interval()[1])
-    return rate
+    return rate, rate / max(np.linalg.norm(problem.C, 2), 1e-300)
 
 
 def synthesise(problem, region, options, convex=None, check=None,
@@ -199,11 +204,13 @@ def synthesise(problem, region, options, convex=None, check=None,
         def check(G, **info):
             return verify_design(problem, G, region, **info)
     verify = check
+    over_bound = []             # candidates the gain bound refused
 
     def check(G, **info):
         if bound is not None:
-            norm = np.linalg.norm(bound[1][:, None] * G, 2)
+            norm = _bounded_norm(bound, G)
             if norm > bound[0] * (1 + 1e-6):
+                over_bound.append(norm)
                 raise VerificationError(
                     f"the {info.get('stage', 'convex')} design's gain norm "
                     f"{norm:.6g} exceeds max_gain = {bound[0]:.6g}")
@@ -212,8 +219,8 @@ def synthesise(problem, region, options, convex=None, check=None,
     if convex is None:
         convex = convex_stage(problem, region, options)
     best = convex.report
-    within = bound is None or np.linalg.norm(
-        bound[1][:, None] * convex.G, 2) <= bound[0] * (1 + 1e-6)
+    within = bound is None or \
+        _bounded_norm(bound, convex.G) <= bound[0] * (1 + 1e-6)
     if best is not None and not (options.refine and (
             needs_refinement(problem, region) or not within)):
         if not within and bound is not None:
@@ -299,11 +306,10 @@ def synthesise(problem, region, options, convex=None, check=None,
             "no candidate design verified (" + "; ".join(steps) + "); try "
             "a looser region or a larger margin=" +
             ("" if bound is None else " or max_gain="))
-        # did the gain bound refuse a candidate (a retry without it may
-        # find a design)?
-        refusal.bounded = bound is not None and any(
-            'max_gain' in why or 'gain norm of at most' in why
-            for why in steps)
+        # did the gain bound refuse a candidate, or hold refinement back
+        # (a retry without it may find a design)?
+        refusal.bounded = bound is not None and (
+            bool(over_bound) or 'failed' in stats.get('refine', {}))
         raise refusal
     # the smallest true norm wins; designs equal to within a tolerance are
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
@@ -340,9 +346,8 @@ def warn_if_extreme(problem, G, report, region=None):
     :meth:`~controlext.synthesis.ObserverProblem.state_scaling`: the
     rate ``max(1, ‖A‖, the region's least speed)`` for the poles, that
     rate over ``‖C‖`` for the gain."""
-    rate = _rate(problem, region)
-    gain = np.linalg.norm(G, 2) / (rate / max(np.linalg.norm(problem.C, 2),
-                                              1e-300))
+    rate, scale = _scales(problem, region)
+    gain = np.linalg.norm(G, 2) / scale
     fastest = float(np.max(np.abs(report.poles))) / rate \
         if not problem.dt and report.poles.size else 0.0
     if gain > EXTREME or fastest > EXTREME:

@@ -243,13 +243,16 @@ def tradeoff_of(problem: ObserverProblem, G: ArrayLike, name: str = '',
                 luenberger: float | None = None,
                 region: Region | None = None) -> Tradeoff:
     """The :class:`Tradeoff` of gain ``G`` on ``problem`` (``floor`` and
-    ``luenberger`` as known to the caller; ``region`` the design's)."""
+    ``luenberger`` as known to the caller — a one-copy design is its own
+    one-copy design; ``region`` the design's)."""
     G = np.asarray(G, dtype=float)
     Acl, Bcl, Ccl, Dcl = problem.error_system(G)
     poles = la.eigvals(Acl)
     hinf, _ = hinfnorm_matrices(Acl, Bcl, Ccl, Dcl, problem.dt,
                                 poles=poles)
     peak, settle = transient(problem, G)
+    if luenberger is None and problem.copies == 1:
+        luenberger = float(hinf)
     return Tradeoff(
         name=name, hinf=float(hinf), floor=floor, luenberger=luenberger,
         gain_norm=float(np.linalg.norm(G, 2)) if G.size else 0.0,
