@@ -264,7 +264,7 @@ def balance_pair(A, C):
     return scale[:n]
 
 
-def unobservable_modes(A, C, rtol=1e-8):
+def unobservable_modes(A, C, rtol=1e-10):
     """Eigenvalues of ``A`` that the PBH test finds unobservable from ``C``.
 
     The test runs on the balanced pair of :func:`balance_pair` and compares

@@ -33,8 +33,8 @@ def test_best_point_inside_the_region_when_the_final_push_fails(monkeypatch):
     region = cx.HalfPlane(1.0)
     push = refine._make_feasible
 
-    def no_final_push(obj, G, target, maxiter=200):
-        return None if target == 0.0 else push(obj, G, target, maxiter)
+    def no_final_push(obj, G, target, maxiter=200, **kw):
+        return None if target == 0.0 else push(obj, G, target, maxiter, **kw)
 
     monkeypatch.setattr(refine, '_make_feasible', no_final_push)
     start = np.array([[2.0], [5.0]])        # the paper's K0: decay 1
@@ -145,17 +145,10 @@ def test_costly_problems_screen_twice_and_keep_given_starts(monkeypatch):
     assert rounds == []
 
 
-def test_polishing_race_stops_only_stalled_runs_far_behind(monkeypatch):
-    """After each round of segments a run stops when it is more than
-    race_keep behind the leader *and* its last segment gained less than
-    race_progress; a run far behind that still gains fast goes on (with
-    three copies such runs won), one close to the leader goes on too."""
-    scripts = {                 # segment end values of four scripted runs
-        'leader': [1.00, 0.99, 0.989],
-        'stalled far behind': [1.30, 1.29, 1.285, 1.28],
-        'gaining fast': [2.00, 1.50, 1.10, 0.95],
-        'close behind': [1.02, 1.015, 1.012, 1.011, 1.0105],
-    }
+def _scripted_polish(monkeypatch, scripts, restarts, floor=None,
+                     best=np.inf):
+    """Run refine._polish on runs whose segments end at scripted values;
+    returns the segments each ran, the results and the points."""
     segments = []
 
     def step(args):
@@ -169,21 +162,52 @@ def test_polishing_race_stops_only_stalled_runs_far_behind(monkeypatch):
         k = run['restart']
         segments.append(name)
         value = values[k]
-        run.update(value=value, restart=k + 1)
+        run.update(value=value, restart=k + 1, fx=value)
         if k + 1 == len(values):
             run['result'] = (value, name)
         return run
 
     monkeypatch.setattr(refine, '_polish_step', step)
-    results, points = refine._polish(None, None, [(name, (np.inf, None))
-                                                  for name in scripts], 0, 0,
-                                   RefineOptions())
-    ran = {name: segments.count(name) for name in scripts}
-    # 'stalled far behind' is 1.29/0.99 = 1.30x behind after round 2 with
-    # a gain of 0.8 %: it stops there; 'gaining fast' (36 % in round 3)
-    # goes on and leads after round 4 with 0.95, when 'close behind' is
-    # 1.011/0.95 = 1.064x behind, gaining 0.1 %: it stops then
+    results, points = refine._polish(None, None, [(name, (best, None))
+                                                  for name in scripts], 0,
+                                     restarts, RefineOptions(), floor)
+    return {name: segments.count(name) for name in scripts}, results, points
+
+
+def test_polishing_race_stops_runs_that_cannot_catch_up(monkeypatch):
+    """After each round of segments (a budget of 5 here) a run stops when
+    it is more than race_keep behind the leader and its last segment
+    gained less than race_progress, or when at its last segment's pace
+    its remaining segments would not take it ahead of the leader; a run
+    far behind that gains fast goes on (with three copies such runs won),
+    and so does one that gains enough to overtake."""
+    scripts = {                 # segment end values of five scripted runs
+        'leader': [1.00, 0.99, 0.989],
+        'stalled far behind': [1.30, 1.29, 1.285, 1.28],
+        'gaining fast': [2.00, 1.50, 1.10, 0.95],
+        'close behind': [1.02, 1.015, 1.012, 1.011, 1.0105],
+        'catching up': [1.03, 1.00, 0.975],
+    }
+    ran, results, points = _scripted_polish(monkeypatch, scripts, 4)
+    # round 2: 'stalled far behind' is 1.29/0.99 = 1.30x behind, gaining
+    # 0.8 %: stops.  'close behind' is 2.5 % behind, gaining 0.49 % a
+    # segment with 3 left (1.5 %): stops.  'catching up' is 1.0 % behind
+    # gaining 3 % (9 % in reach): goes on and overtakes (0.975); 'gaining
+    # fast' (51 % behind, 33 % a segment) goes on and ends ahead (0.95)
     assert ran == {'leader': 3, 'stalled far behind': 2, 'gaining fast': 4,
-                   'close behind': 4}
-    assert [value for value, _ in results] == [0.989, 1.29, 0.95, 1.011]
-    assert points == 3 + (2 + 1) + 4 + (4 + 1)  # a stopped run finishes
+                   'close behind': 2, 'catching up': 3}
+    assert [value for value, _ in results] == [0.989, 1.29, 0.95, 1.015,
+                                               0.975]
+    assert points == 3 + (2 + 1) + 4 + (2 + 1) + 3  # a stopped run finishes
+
+
+def test_polishing_stops_at_the_floor(monkeypatch):
+    """A screened point inside the region within floor_tol of the floor
+    (a level no gain beats): no run polishes, each is only finished."""
+    scripts = {'a': [1.0, 0.9], 'b': [1.1, 1.0]}
+    ran, results, points = _scripted_polish(monkeypatch, scripts, 4,
+                                            floor=0.5, best=0.5004)
+    assert ran == {'a': 0, 'b': 0} and points == 2
+    ran, _, _ = _scripted_polish(monkeypatch, scripts, 4, floor=0.5,
+                                 best=0.6)
+    assert ran == {'a': 2, 'b': 2}          # above the floor: both run out

@@ -52,6 +52,10 @@ _REFINE_CHECKS = {
     'restart_every': _int(1),
     'race_keep': dict(low=1),
     'race_progress': dict(low=0),
+    'race_reach': dict(low=0),
+    'race_tie': dict(low=0),
+    'floor_tol': dict(low=0),
+    'push': _int(0),
     'costly_states': _int(0),
     'second_round': _int(0),
     'second_round_keep': dict(low=1),
@@ -98,7 +102,15 @@ class RefineOptions:
     race_keep, race_progress : float
         After each segment a run more than ``race_keep`` behind the
         leader whose last segment gained less than ``race_progress``
-        (relative) stops.
+        (relative) stops; so does a run whose remaining segments, at the
+        pace of its last one times ``race_reach``, would not take it more
+        than ``race_tie`` (relative) ahead of the leader.
+    floor_tol : float
+        Refinement stops once a point inside the region is within this
+        (relative) of the unconstrained filter level, which no gain beats.
+    push : int
+        BFGS steps the feasibility push of a start outside the region
+        may take before the start is dropped.
     costly_states, second_round, second_round_keep
         Gains of more than 64 entries on more than ``costly_states``
         error states get a second round of ``second_round`` screening
@@ -120,6 +132,10 @@ class RefineOptions:
     restart_every: int = 150
     race_keep: float = 1.05
     race_progress: float = 0.03
+    race_reach: float = 1.0
+    race_tie: float = 1e-3
+    floor_tol: float = 1e-3
+    push: int = 200
     costly_states: int = 32
     second_round: int = 60
     second_round_keep: float = 1.05

@@ -172,7 +172,7 @@ def _scales(problem, region):
 
 
 def synthesise(problem, region, options, convex=None, check=None,
-               bound=None):
+               bound=None, floor=None):
     """Convex stage, refinement where it is conservative, verification.
 
     Parameters
@@ -192,6 +192,10 @@ def synthesise(problem, region, options, convex=None, check=None,
     bound : (float, ndarray), optional
         The gain bound ``(κ, weights)`` of :func:`gain_bound`: refinement
         holds it, and a candidate above it is refused.
+    floor : float, optional
+        The problem's unconstrained filter level
+        (:func:`~controlext.synthesis.floor.filter_floor`, computed here
+        when not given): a design at it is not refined further.
 
     Returns
     -------
@@ -241,17 +245,28 @@ def synthesise(problem, region, options, convex=None, check=None,
         return convex.G, best
     starts = [(convex.stage, convex.G)]
     stats = dict(convex.stats)
+    if floor is None:
+        floor = filter_floor(problem, options.solver,
+                             max_states=options.lmi_max_states)
+    stats.update(floor_level=floor)
+    if best is not None and within and floor is not None and \
+            best.hinf <= floor + _equal(floor, problem):
+        # the convex design is at the level no observer of any structure
+        # can beat: refinement has nothing to gain
+        best.stats = dict(stats, headroom=(
+            f"the convex design reaches the unconstrained H∞ filter level "
+            f"γ∞* = {floor:.6g} (γ = {best.hinf:.6g}): no observer of any "
+            "structure or order can do better, so it was not refined"))
+        return convex.G, best
     if problem.copies > 1:
         single = options if options.method != 'lmi' else \
             options.replace(method='auto')
         G1, rep1 = synthesise(problem.single(), region, single,
                               convex=convex.luenberger, bound=None if
                               bound is None else (bound[0], bound[1][
-                                  :problem.n]))
+                                  :problem.n]), floor=floor)
         starts.append(('luenberger', problem.embed(G1)))
-        floor = filter_floor(problem, options.solver,
-                             max_states=options.lmi_max_states)
-        stats.update(luenberger_hinf=rep1.hinf, floor_level=floor)
+        stats.update(luenberger_hinf=rep1.hinf)
         if floor is not None and rep1.hinf <= floor + _equal(floor,
                                                              problem):
             # headroom: the one-copy design is at the level no observer
@@ -274,7 +289,8 @@ def synthesise(problem, region, options, convex=None, check=None,
                           options=options.refine_options, seed=options.seed,
                           executor=options.executor,
                           gain_bound=None if bound is None else bound[0],
-                          gain_weights=None if bound is None else bound[1])
+                          gain_weights=None if bound is None else bound[1],
+                          floor=floor)
     except VerificationError as exc:
         # the convex design is verified already: keep it, say why
         stats['refine'] = dict(failed=str(exc))

@@ -80,8 +80,10 @@ class RefineResult:
     time: float = 0.0
 
 
-def _make_feasible(obj, G, target, maxiter=200):
-    """Push the worst constraint margin below ``target`` (phase 1)."""
+def _make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7)):
+    """Push the worst constraint margin below ``target`` (phase 1); the
+    push gives up when ``stall = (steps, rtol)`` steps gained less than
+    ``rtol`` (relative)."""
     if not obj.constrained or obj.margin(G)[0] <= target:
         return G
 
@@ -89,7 +91,8 @@ def _make_feasible(obj, G, target, maxiter=200):
         m, g = obj.margin(x.reshape(G.shape))
         return m, g.ravel()
 
-    x, _ = bfgs(f, G.ravel(), maxiter, stop=lambda x, fx: fx <= target)
+    x, _ = bfgs(f, G.ravel(), maxiter, stop=lambda x, fx: fx <= target,
+                stall=stall[0], stall_tol=stall[1])
     G = x.reshape(G.shape)
     return G if obj.margin(G)[0] <= target else None
 
@@ -143,7 +146,11 @@ def _screen(args):
     obj, G, delta, iterations, push = args
     before = obj.count
     obj.reset_best()
-    pushed = _make_feasible(obj, G, -10 * delta, push)
+    # a random start the push cannot bring inside soon is dropped: pushes
+    # that succeed do so within ~30 steps, those that stall creep on for
+    # hundreds (HE1: 45 of 65 pushes failed after ~1,000 evaluations each,
+    # 70 % of the screening)
+    pushed = _make_feasible(obj, G, -10 * delta, push, stall=(15, 1e-2))
     if pushed is None and _on_boundary(obj, G):
         pushed = G          # a verified design on the boundary: the
                             # penalty takes it from there
@@ -228,17 +235,23 @@ def _polish_step(args):
     return run
 
 
-def _polish(executor, obj, screened, maxiter, restarts, opts):
+def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
     """Polish the screened starts ``(x, best)``; ``[(γ, G)]`` (``G`` None
     where the run failed) and the number of points evaluated.
 
     The runs advance in rounds of one segment each (in parallel on
-    ``executor``); after a round, a run more than ``opts.race_keep`` behind
-    the leader whose last segment gained less than ``opts.race_progress``
-    stops there.  The result does not depend on the executor.
+    ``executor``); after a round, a run stops there when it is more than
+    ``opts.race_keep`` behind the leader and its last segment gained less
+    than ``opts.race_progress``, when at that segment's pace (times
+    ``opts.race_reach``) its remaining segments would not take it more
+    than ``opts.race_tie`` ahead of the leader, or when a point inside
+    the region within ``opts.floor_tol`` of ``floor`` (a level no gain
+    can beat) has been met.  The result does not depend on the executor.
     """
+    at_floor = floor is not None and \
+        min(best[0] for _, best in screened) <= floor * (1 + opts.floor_tol)
     runs = [dict(x=x, best=best, rho=None, escalation=0, restart=0,
-                 fx=None, value=np.inf, stop=False,
+                 fx=None, value=np.inf, stop=at_floor,
                  result=None) for x, best in screened]
     points = 0
     while True:
@@ -254,10 +267,26 @@ def _polish(executor, obj, screened, maxiter, restarts, opts):
             runs[k] = run
             points += run['points']
         lead = min(run['value'] for run in runs)
+        inside = min(run['best'][0] for run in runs)
         for run in runs:
-            if run['result'] is None and \
-                    run['gain'] < opts.race_progress and \
+            if run['result'] is not None or run['stop']:
+                continue
+            behind = run['value'] / lead - 1 if lead > 0 else 0.0
+            left = restarts + 1 - run['restart']
+            if run['gain'] < opts.race_progress and \
                     run['value'] > opts.race_keep * lead:
+                run['stop'] = True
+            elif behind > 0 and run['escalation'] == 0 and \
+                    run['gain'] * left * opts.race_reach < \
+                    behind + opts.race_tie:
+                # at the pace of its last segment it cannot get ahead of
+                # the leader (by more than a tie) within its budget (a run
+                # whose penalty weight was raised is not judged so: its
+                # values jumped with the weight)
+                run['stop'] = True
+            elif floor is not None and inside <= floor * (1 + opts.floor_tol):
+                # a point inside the region at the floor: no gain of any
+                # structure does better
                 run['stop'] = True
     return [run['result'] for run in runs], points
 
@@ -275,7 +304,8 @@ def _rate_scale(problem, G):
 
 
 def refine_gain(problem, region, starts, *, options=None, seed=0,
-                executor=None, gain_bound=None, gain_weights=None):
+                executor=None, gain_bound=None, gain_weights=None,
+                floor=None):
     """Minimise the true H∞ norm over the gain, inside ``region``.
 
     Parameters
@@ -311,6 +341,11 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
     gain_bound, gain_weights : optional
         The constraint ``‖diag(gain_weights) G‖₂ <= gain_bound``, held
         like the region (an exact penalty; the result satisfies it).
+    floor : float, optional
+        A level no gain can beat (the unconstrained filter level
+        :func:`~controlext.synthesis.floor.filter_floor`): refinement
+        stops once a point inside the region is within
+        ``options.floor_tol`` of it.
 
     Returns
     -------
@@ -371,7 +406,7 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
     # random starts of large gains are often far outside the region: give
     # the feasibility push fewer steps there (each costs an eigen-
     # decomposition; at n = 60 four failed pushes took 13 s with 200)
-    push = 20 if large else 200
+    push = 20 if large else opts.push
     runs = list(_map(executor, _screen, [
         (obj, G, opts.delta, opts.screen_iterations, push)
         for _, G in starts]))
@@ -409,7 +444,7 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
     results = []
     for batch in batches:
         polished, points = _polish(executor, obj, [x for _, _, x in batch],
-                                   maxiter, restarts, opts)
+                                   maxiter, restarts, opts, floor)
         evaluations += points
         results += [(gamma, label, G) for (_, label, _), (gamma, G)
                     in zip(batch, polished) if G is not None]
