@@ -8,6 +8,13 @@ called, with arguments every revision accepts.
 
     python benchmarks/compare_revisions.py --baseline HEAD~1
     python benchmarks/compare_revisions.py --baseline HEAD~1 --cases paper
+    python benchmarks/compare_revisions.py --baseline 65edc1d --cases public
+
+The ``public`` group designs ``hinf_observer`` and ``coupled_observer``
+at decay 0.5 on every public plant of 4-10 states of
+``benchmarks/plants.py`` (input disturbances and sensor noise 0.1) and
+prints, for each factory, the median and the largest time on both
+revisions (the speed targets: medians of 1 s and 2 s, none above 5 s).
 """
 
 import argparse
@@ -17,6 +24,8 @@ import pathlib
 import subprocess
 import sys
 import tempfile
+
+import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
@@ -38,11 +47,27 @@ CASES = {
     },
 }
 
+sys.path.insert(0, str(ROOT / 'benchmarks'))
+from plants import PUBLIC  # noqa: E402
+
+CASES['public'] = {
+    f'{name} {label}': f"cx.{factory}(PUBLIC[{name!r}], decay=0.5, "
+                       f"**noise(PUBLIC[{name!r}]))"
+    for name, plant in PUBLIC.items() if 4 <= plant.nstates <= 10
+    for label, factory in (('hinf', 'hinf_observer'),
+                           ('pair', 'coupled_observer'))}
+
 RUNNER = r'''
 import json, sys, time, warnings
 import numpy as np
 import control as ct
 import controlext as cx
+sys.path.insert(0, sys.argv[2])
+from plants import PUBLIC
+def noise(plant):
+    from plants import noise_model
+    Bw, Dw = noise_model(plant)
+    return dict(Bw=Bw, Dw=Dw)
 warnings.simplefilter('ignore')
 scalar = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
 second = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]], 0)
@@ -59,7 +84,8 @@ print(json.dumps(dict(time=elapsed, gamma=float(obs.hinf))))
 
 def run(tree, expr):
     env = dict(os.environ, PYTHONPATH=str(tree))
-    out = subprocess.run([sys.executable, '-c', RUNNER, expr], env=env,
+    out = subprocess.run([sys.executable, '-c', RUNNER, expr,
+                          str(ROOT / 'benchmarks')], env=env,
                          capture_output=True, text=True, check=True,
                          cwd=tempfile.gettempdir())
     return json.loads(out.stdout.strip().splitlines()[-1])
@@ -76,8 +102,9 @@ def main():
         subprocess.run(['git', '-C', str(ROOT), 'worktree', 'add', '-q',
                         '--detach', str(base), args.baseline], check=True)
         try:
-            print(f"{'case':<16}{'this s':>9}{'base s':>9}{'ratio':>8}"
+            print(f"{'case':<22}{'this s':>9}{'base s':>9}{'ratio':>8}"
                   f"{'γ this':>11}{'γ base':>11}")
+            times = {}
             for group in args.cases:
                 for name, expr in CASES[group].items():
                     mine, theirs = [], []
@@ -86,9 +113,18 @@ def main():
                         theirs.append(run(base, expr))
                     t1 = min(r['time'] for r in mine)
                     t0 = min(r['time'] for r in theirs)
-                    print(f"{name:<16}{t1:>9.3f}{t0:>9.3f}{t1 / t0:>8.2f}"
+                    times.setdefault(name.split()[-1], []).append((t1, t0))
+                    print(f"{name:<22}{t1:>9.3f}{t0:>9.3f}{t1 / t0:>8.2f}"
                           f"{mine[0]['gamma']:>11.5f}"
                           f"{theirs[0]['gamma']:>11.5f}", flush=True)
+            if 'public' in args.cases:
+                print()
+                for label in ('hinf', 'pair'):
+                    pairs = np.array(times[label])
+                    med, big = np.median(pairs, axis=0), pairs.max(axis=0)
+                    print(f"{label + ' median':<22}{med[0]:>9.3f}{med[1]:>9.3f}"
+                          f"{med[0] / med[1]:>8.2f}   largest {big[0]:.3f}"
+                          f" / {big[1]:.3f} s")
         finally:
             subprocess.run(['git', '-C', str(ROOT), 'worktree', 'remove',
                             '--force', str(base)], check=True)

@@ -15,7 +15,23 @@ noise model the benchmarks use: a disturbance entering with the inputs
 * ``cart-pendulum`` — the linearised inverted pendulum on a cart
   (Franklin, Powell & Emami-Naeini; M = 1 kg, m = 0.1 kg, l = 0.5 m);
 * ``dc motor`` — an armature-controlled DC motor with its angle measured
-  (time constant 0.5 s).
+  (time constant 0.5 s);
+* ``quadruple tank`` — Johansson's quadruple-tank process at its
+  minimum-phase operating point (K. H. Johansson, *IEEE Trans. Control
+  Syst. Technol.* 8(3), 2000: tank areas 28/32 cm², outlets 0.071/0.057
+  cm², levels 12.4/12.7/1.8/1.4 cm, γ₁ = 0.7, γ₂ = 0.6, k₁ = 3.33, k₂ =
+  3.35, kc = 0.5), the two lower levels measured;
+* ``two-mass spring`` — the ACC robust control benchmark (Wie &
+  Bernstein, *J. Guidance* 15(5), 1992: m₁ = m₂ = k = 1), the force on
+  the first mass, the position of the second measured (a rigid-body
+  double integrator and an undamped mode at √2 rad/s);
+* ``quarter car`` — the active suspension of MATLAB's "Robust Control of
+  an Active Suspension" example (body 300 kg, wheel 60 kg, 16 kN/m and
+  1 kN·s/m suspension, 190 kN/m tyre; road and actuator force in kN as
+  inputs), body travel and suspension deflection measured;
+* ``mass chain`` — four unit masses in a chain of unit springs and light
+  dampers (0.02 N·s/m), the first tied to a wall, the force on the first mass, the positions of
+  the first and the last measured: 8 states, four lightly damped modes.
 """
 
 import numpy as np
@@ -58,6 +74,54 @@ PUBLIC = {
                            [[1, 0, 0, 0], [0, 0, 1, 0]], 0),
     'dc motor': ct.ss([[0, 1], [0, -2.0]], [[0], [4.0]], [[1, 0]], 0),
 }
+
+
+def _quadruple_tank():
+    area = np.array([28.0, 32.0, 28.0, 32.0])
+    outlet = np.array([0.071, 0.057, 0.071, 0.057])
+    level = np.array([12.4, 12.7, 1.8, 1.4])
+    g1, g2, k1, k2, kc = 0.7, 0.6, 3.33, 3.35, 0.5
+    T = area / outlet * np.sqrt(2 * level / 981.0)
+    A = np.diag(-1 / T)
+    A[0, 2] = area[2] / (area[0] * T[2])
+    A[1, 3] = area[3] / (area[1] * T[3])
+    B = np.array([[g1 * k1 / area[0], 0], [0, g2 * k2 / area[1]],
+                  [0, (1 - g2) * k2 / area[2]], [(1 - g1) * k1 / area[3], 0]])
+    C = kc * np.eye(2, 4)
+    return ct.ss(A, B, C, 0)
+
+
+def _quarter_car():
+    mb, mw, bs, ks, kt = 300.0, 60.0, 1000.0, 16000.0, 190000.0
+    A = np.array([[0, 1, 0, 0],
+                  [-ks / mb, -bs / mb, ks / mb, bs / mb],
+                  [0, 0, 0, 1],
+                  [ks / mw, bs / mw, -(ks + kt) / mw, -bs / mw]])
+    B = np.array([[0, 0], [0, 1e3 / mb], [0, 0], [kt / mw, -1e3 / mw]])
+    C = np.array([[1.0, 0, 0, 0], [1.0, 0, -1.0, 0]])
+    return ct.ss(A, B, C, 0)
+
+
+def _mass_chain(masses=4, spring=1.0, damper=0.02):
+    K = 2 * np.eye(masses) - np.eye(masses, k=1) - np.eye(masses, k=-1)
+    K[-1, -1] = 1.0                          # the last mass is free
+    A = np.block([[np.zeros((masses, masses)), np.eye(masses)],
+                  [-spring * K, -damper * K]])
+    B = np.zeros((2 * masses, 1))
+    B[masses, 0] = 1.0
+    C = np.zeros((2, 2 * masses))
+    C[0, 0] = C[1, masses - 1] = 1.0
+    return ct.ss(A, B, C, 0)
+
+
+PUBLIC.update({
+    'quadruple tank': _quadruple_tank(),
+    'two-mass spring': ct.ss([[0, 0, 1, 0], [0, 0, 0, 1], [-1, 1, 0, 0],
+                              [1, -1, 0, 0]], [[0], [0], [1], [0]],
+                             [[0, 1, 0, 0]], 0),
+    'quarter car': _quarter_car(),
+    'mass chain': _mass_chain(),
+})
 
 
 def noise_model(plant):

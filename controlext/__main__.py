@@ -1,6 +1,9 @@
 """``python -m controlext``: reproduce Section IV of Li & Sanfelice."""
 
 import argparse
+import concurrent.futures
+import contextlib
+import os
 import sys
 
 from .paper import format_table, paper_rows
@@ -18,16 +21,28 @@ def main(argv=None):
                         help='folder for the figures (default: %(default)s)')
     parser.add_argument('--no-figures', action='store_true',
                         help='print the table only')
+    parser.add_argument('--workers', type=int, default=None,
+                        help='processes for the independent designs '
+                             '(default: one per core, at most 4; 1: none)')
     args = parser.parse_args(argv)
-    rows = paper_rows(synthesise=not args.no_synthesis)
-    print("Li & Sanfelice, Section IV: published numbers and controlext's")
-    print(format_table(rows))
-    if not args.no_figures:
-        from .paper.figures import write_all
-        paths = write_all(args.out)
-        print(f"\nfigures written to {args.out}/:")
-        for path in paths:
-            print(f"  {path}")
+    workers = args.workers if args.workers is not None else \
+        min(4, os.cpu_count() or 1)
+    if workers < 1:
+        parser.error(f"--workers must be at least 1; found {workers}")
+    with contextlib.ExitStack() as stack:
+        executor = None if workers == 1 else stack.enter_context(
+            concurrent.futures.ProcessPoolExecutor(workers))
+        rows = paper_rows(synthesise=not args.no_synthesis,
+                          executor=executor)
+        print("Li & Sanfelice, Section IV: published numbers and "
+              "controlext's")
+        print(format_table(rows))
+        if not args.no_figures:
+            from .paper.figures import write_all
+            paths = write_all(args.out, executor=executor)
+            print(f"\nfigures written to {args.out}/:")
+            for path in paths:
+                print(f"  {path}")
     bad = [r for r in rows if not r.ok]
     if bad:
         print(f"\n{len(bad)} row(s) do not match the published value",

@@ -14,6 +14,7 @@ Examples
 2
 """
 
+import functools
 import os
 import sys
 
@@ -162,15 +163,18 @@ def figure_5():
     return fig
 
 
-def figure_tradeoff(decays=(0.6, 0.8, 1.0, 1.2, 1.5, 2.0), progress=None):
-    """Best γ against required decay, N = 1, 2, 3 (second-order plant).
+def figure_tradeoff(decays=(0.6, 0.8, 1.0, 1.2, 1.5, 2.0), progress=None,
+                    executor=None):
+    """Best γ against required decay, N = 1, 2, 3 (second-order plant),
+    the designs on ``executor`` when given.
 
     Below the plant's own rate (0.5) the best gain is ``L = 0`` with
     ``γ = 0``, so the default decays start above it."""
     curve = {'decay': np.asarray(decays, dtype=float)}
     for N in (1, 2, 3):
         part = tradeoff_curve(second_order_plant(), decays, copies=(N,),
-                              refine_options={'random_starts': 6})
+                              refine_options={'random_starts': 6},
+                              executor=executor)
         curve[N] = part[N]
         if progress:
             progress()
@@ -216,8 +220,9 @@ def figure_poles():
     return cplt.figure
 
 
-def write_all(folder, progress=True):
-    """Write every figure as PNG into ``folder``; return the paths."""
+def write_all(folder, progress=True, executor=None):
+    """Write every figure as PNG into ``folder``; return the paths (the
+    trade-off figure's designs run on ``executor`` when given)."""
     import matplotlib
     matplotlib.use('Agg')
     plt = _plt()
@@ -227,7 +232,8 @@ def write_all(folder, progress=True):
             ('figure3_maps.png', figure_3),
             ('figure4_feasible_region.png', figure_4),
             ('figure5_errors.png', figure_5),
-            ('tradeoff.png', figure_tradeoff),
+            ('tradeoff.png', functools.partial(figure_tradeoff,
+                                               executor=executor)),
             ('gi_disturbance.png', figure_gi),
             ('poles_region.png', figure_poles)]
     paths = []
