@@ -172,3 +172,25 @@ def test_slow_discrete_transient_closed_form():
     peak, settle = transient(prob, [[0.5]])
     assert peak == pytest.approx(1.0)
     assert settle == np.ceil(np.log(0.02) / np.log(a))
+
+
+def test_discrete_h2_when_scipy_cannot_invert(monkeypatch):
+    """A fragile discrete design (campaign seed 416, ‖A_e‖ 6e8) made
+    scipy's Lyapunov solver invert a numerically singular A + I and the
+    trade-off report crash.  The fallback (Smith doubling) against the
+    Kronecker solution vec P = (I − A ⊗ A)⁻¹ vec Q of a non-normal
+    matrix, with scipy forced to fail."""
+    from controlext.synthesis import tradeoff
+
+    def singular(*args, **kwargs):
+        raise np.linalg.LinAlgError("Singular matrix")
+
+    A = np.array([[0.5, 40.0], [0.0, -0.7]])
+    B = np.array([[1.0], [2.0]])
+    C = np.array([[1.0, -1.0]])
+    P = np.linalg.solve(np.eye(4) - np.kron(A, A),
+                        (B @ B.T).ravel()).reshape(2, 2)
+    expected = np.sqrt((C @ P @ C.T).item())
+    monkeypatch.setattr(tradeoff.la, 'solve_discrete_lyapunov', singular)
+    assert tradeoff.h2_norm(A, B, C, dt=0.1) == pytest.approx(expected,
+                                                              rel=1e-10)
