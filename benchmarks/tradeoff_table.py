@@ -34,10 +34,6 @@ def table(name, plant, decay, noise):
     print(f"\n{name} (decay {decay:g}; design times "
           + ', '.join(f"{k}: {v:.2f} s" for k, v in times.items()) + ")")
     print(comparison)
-    for row in comparison.rows:
-        if 'headroom' in (rows[0].report.stats if row.name == 'N = 1'
-                          else {}):
-            pass
     heads = [o.name for o in rows[1:] if 'headroom' in o.report.stats]
     if heads:
         print(f"  headroom: {', '.join(heads)} returned the one-copy "
