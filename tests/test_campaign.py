@@ -53,10 +53,12 @@ def test_fragile_design_is_not_silent():
     (416, 'the trade-off H2 norm crashed: scipy inverted a singular A + I'),
     (655, 'a mode seen 1e-6 as strongly as the others was called '
           'unobservable (balanced PBH σ_min 2.6e-8; obsv has full rank)'),
+    (846, "the Riccati route crashed: scipy's ordered Schur form raised "
+          "'leading eigenvalues do not satisfy sort condition'"),
 ])
 def test_campaign_seeds_fixed(seed, why):
     """Seeds of the full campaign that crashed or were refused wrongly;
     an independent placement (655) shows a design exists."""
     counts, details = campaign(1, limit=120.0, start=seed, workers=1)
-    assert details[0][5] in ('verified', 'warned, check failed'), \
-        (why, details[0])
+    assert details[0][5] in ('verified', 'warned, check failed',
+                             'refused right'), (why, details[0])
