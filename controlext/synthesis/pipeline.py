@@ -124,6 +124,18 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
             f"{report.hinf:.6g}): the estimator amplifies its own rounding "
             "as much.  A looser region, or max_gain=, gives a better "
             "conditioned design", GainWarning, stacklevel=3)
+    lost = report.tradeoff.sensitivity.get(1e-6, 0.0)
+    if report.tradeoff.peak <= EXTREME and lost > 0.5 * report.tradeoff.decay:
+        # relative gain errors of 1e-6 (a gain printed to 7 digits) cost
+        # more than half the decay: the design is that fragile (campaign
+        # seed 484: γ 3.7e6, decay lost 8.3, estimator and error system
+        # parted by rounding)
+        warnings.warn(
+            f"relative gain errors of 1e-6 cost this design {lost:.3g} of "
+            f"its decay rate {report.tradeoff.decay:.3g} (γ = "
+            f"{report.hinf:.6g}): it is fragile, and its estimator "
+            "amplifies its own rounding.  A looser region, or max_gain=, "
+            "gives a better conditioned design", GainWarning, stacklevel=3)
     report.time = time.perf_counter() - start
     return cls.from_problem(problem, G, report=report, **system)
 
