@@ -77,6 +77,11 @@ def check_name(name):
     if name is not None and not isinstance(name, str):
         raise ArgumentError(f"name must be a string; found "
                             f"{type(name).__name__} {name!r}")
+    if name is not None and '.' in name:
+        # python-control reserves '.' for subsystem signal names
+        raise ParameterError(f"name must not contain '.' (python-control "
+                             f"keeps it for subsystem signals); found "
+                             f"{name!r}")
     return name
 
 

@@ -151,6 +151,8 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
                      executor: ExecutorLike = None,
                      options: SynthesisOptions | None = None,
                      max_gain: float | str | None = 'auto',
+                     objective: str = 'hinf', max_hinf: float | None = None,
+                     max_h2: float | None = None,
                      name: str | None = None, inputs: Names = None,
                      outputs: Names = None,
                      states: Names = None) -> CoupledObserver:
@@ -202,6 +204,17 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
         held by refinement and verified; ``'auto'`` (default) bounds it at
         1e6 times the plant's scale and warns when it binds, ``None``
         lifts it (:class:`~controlext.synthesis.SynthesisOptions`).
+    objective : {'hinf', 'h2'}, optional
+        The norm from noise to estimation error that is minimised: the
+        worst-case gain (H∞, default) or the RMS error under unit white
+        noise (H2, what a Kalman filter minimises).
+    max_hinf, max_h2 : float, optional
+        A bound on the norm that is not minimised: ``objective='h2',
+        max_hinf=b`` is the mixed H2/H∞ design (the best white-noise error
+        whose worst-case gain is at most ``b``), ``max_h2=`` the reverse.
+        Held by the convex stage (one Lyapunov matrix for both norms) and
+        by refinement, verified on the result; a bound below what any
+        linear estimator reaches is refused at once.
     options : SynthesisOptions, optional
         Every tunable of the engine (``lmi_max_states``, ``modal_guard``,
         …); the keywords above override it where they differ from their
@@ -220,11 +233,7 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     >>> bool(obs.hinf <= 0.4953), bool(obs.decay >= 2.5 - 1e-6)
     (True, True)
     """
-    options = SynthesisOptions.from_keywords(
-        options, margin=margin, method=method, solver=solver,
-        solver_options=solver_options, seed=seed, refine=refine,
-        refine_options=refine_options, executor=executor,
-        max_gain=max_gain)
+    options = SynthesisOptions.from_call(options, locals())
     problem = plant_problem(plant, Bw, Dw, Cz, copies=check_copies(copies, 2),
                             weights=weights)
     return design(CoupledObserver, problem, options, decay=decay,

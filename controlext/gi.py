@@ -285,6 +285,8 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
                 executor: ExecutorLike = None,
                 options: SynthesisOptions | None = None,
                 max_gain: float | str | None = 'auto',
+                objective: str = 'hinf', max_hinf: float | None = None,
+                max_h2: float | None = None,
                 name: str | None = None, inputs: Names = None,
                 outputs: Names = None, states: Names = None) -> GIObserver:
     """H∞-optimal GI observer (optionally augmented, optionally coupled).
@@ -304,6 +306,8 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
     weights, region, method, refine, margin, solver, solver_options
         As for :func:`controlext.coupled_observer`.
     seed, refine_options, executor, options, max_gain, name
+        As for :func:`controlext.coupled_observer`.
+    objective, max_hinf, max_h2
         As for :func:`controlext.coupled_observer`.
     inputs, outputs, states
         As for :func:`controlext.coupled_observer`.
@@ -330,11 +334,7 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
     """
     problem = gi_problem(plant, Bw, augmented, check_copies(copies),
                          weights)
-    options = SynthesisOptions.from_keywords(
-        options, margin=margin, method=method, solver=solver,
-        solver_options=solver_options, seed=seed, refine=refine,
-        refine_options=refine_options, executor=executor,
-        max_gain=max_gain)
+    options = SynthesisOptions.from_call(options, locals())
     what = ("augmented plant (A, C) with the disturbance states "
             "[[A, Bw U], [0, Λ]], [C, U]") if augmented else "plant"
     obs = design(GIObserver, problem, options, decay=decay, region=region,

@@ -1,7 +1,8 @@
 """Trade-off curves: one design parameter swept, every point's trade-off.
 
-:func:`sweep` designs an observer for each value of ``decay``, ``copies``
-or ``max_gain`` (the others fixed) and returns every design's
+:func:`sweep` designs an observer for each value of ``decay``, ``copies``,
+``max_gain``, ``max_hinf`` or ``max_h2`` (the others fixed; the last two
+with the other norm as ``objective=``: a mixed H2/H∞ front) and returns every design's
 :class:`~controlext.synthesis.tradeoff.Tradeoff`; :meth:`Sweep.front`
 keeps the designs no other one beats in two of its numbers at once (the
 Pareto front of, say, γ against settling time or against the H2 norm),
@@ -34,7 +35,7 @@ from .synthesis.tradeoff import Tradeoff
 
 __all__ = ['Sweep', 'sweep']
 
-PARAMETERS = ('decay', 'copies', 'max_gain')
+PARAMETERS = ('decay', 'copies', 'max_gain', 'max_hinf', 'max_h2')
 METRICS = ('hinf', 'h2', 'gain_norm', 'peak', 'settling_time', 'decay')
 
 
@@ -85,8 +86,8 @@ def sweep(plant: Plant, parameter: str, values: Sequence[Any], *,
     ----------
     plant : control.StateSpace
         The plant.
-    parameter : {'decay', 'copies', 'max_gain'}
-        What varies; ``copies = 1`` is the H∞ Luenberger observer
+    parameter : {'decay', 'copies', 'max_gain', 'max_hinf', 'max_h2'}
+        What varies (``max_hinf`` needs ``objective='h2'``); ``copies = 1`` is the H∞ Luenberger observer
         (:func:`~controlext.hinf_observer`), more copies a coupled design.
     values : sequence
         The values it takes.

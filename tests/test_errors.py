@@ -120,6 +120,14 @@ def test_placement_arguments(second_order_plant):
         cx.luenberger_observer(second_order_plant, [-1 + 1j, -2])
 
 
+def test_name_with_a_dot_is_refused_by_the_package(second_order_plant):
+    # python-control itself raises a bare ValueError for this name
+    with pytest.raises(ValueError):
+        ct.ss([[-1.0]], [[1.0]], [[1.0]], 0, name='a.b')
+    with pytest.raises(cx.ParameterError, match="must not contain '.'"):
+        cx.hinf_observer(second_order_plant, name='γ <= 1.1')
+
+
 def test_other_arguments(second_order_plant):
     with pytest.raises(cx.ParameterError, match="method must be one of "
                                                 "'auto', 'lmi'.*'newton'"):

@@ -25,6 +25,8 @@ Examples
 
 # the generalised plant  (problem.py)
 from .problem import ObserverProblem, plant_problem
+# what a design minimises and bounds  (criteria.py)
+from .criteria import Criteria
 # options, checked before any solve  (options.py)
 from .options import SynthesisOptions, RefineOptions
 # pole regions  (regions.py)
@@ -38,7 +40,7 @@ from .verify import DesignReport, verify_design
 # the pipeline  (pipeline.py)
 from .pipeline import synthesise, needs_refinement
 
-__all__ = ['ObserverProblem', 'plant_problem', 'SynthesisOptions',
+__all__ = ['ObserverProblem', 'plant_problem', 'Criteria', 'SynthesisOptions',
            'RefineOptions', 'Region', 'HalfPlane', 'Disk', 'Sector',
            'region_for', 'ConvexResult', 'convex_stage', 'RefineResult',
            'refine_gain', 'DesignReport', 'verify_design', 'synthesise',

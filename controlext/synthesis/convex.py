@@ -12,7 +12,9 @@ coupled, GI, augmented GI, coupled GI — and returns a typed
   measured, at ``(N n)^3.7`` instead of ``n^3.7``);
 * ``'riccati'``: the filter Riccati equation (continuous time, noise on
   every measurement, no region or a decay half-plane: for ``Re s <= -σ``
-  the plant shifted by ``σ``);
+  the plant shifted by ``σ``); for ``objective='h2'`` with no region and no
+  norm bound, the Kalman filter (continuous or discrete), which is the
+  H2 optimum;
 * ``'modal'``: the LMI on the modes outside or near the region
   (:mod:`~controlext.synthesis.modal`);
 * ``'lmi'``: the two-stage LMI of :mod:`~controlext.synthesis.lmi`;
@@ -42,7 +44,8 @@ from .lmi import solve_observer_lmi
 from .modal import modal_applies, modal_problem
 from .placement import interior_poles, place_gain
 from .regions import Disk, HalfPlane
-from .riccati import hinf_filter_gain, hinf_filter_level, regularisations
+from .riccati import (hinf_filter_gain, hinf_filter_level, kalman_filter,
+                      regularisations)
 from .verify import verify_design
 
 __all__ = ['ConvexResult', 'convex_stage', 'riccati_applies']
@@ -88,11 +91,19 @@ class ConvexResult:
     report: object = None
 
 
-def riccati_applies(problem, region):
-    """Can the filter Riccati equation give a certified design?"""
-    return (problem.copies == 1 and not problem.dt and
-            (region is None or type(region) is HalfPlane) and
-            np.linalg.matrix_rank(problem.Dw @ problem.Dw.T) == problem.p)
+def riccati_applies(problem, region, criteria=None):
+    """Can a Riccati equation give a certified design?  The H∞ filter's
+    (continuous time, no region or a decay half-plane) for the plain H∞
+    design; the Kalman filter's (no region) for the plain H2 design; noise
+    on every measurement for both."""
+    if problem.copies != 1 or \
+            np.linalg.matrix_rank(problem.Dw @ problem.Dw.T) != problem.p:
+        return False
+    if criteria is None or criteria.default:
+        return not problem.dt and (region is None or
+                                   type(region) is HalfPlane)
+    return criteria.objective == 'h2' and not criteria.bounds and \
+        region is None
 
 
 def convex_stage(problem, region, options):
@@ -132,6 +143,7 @@ def convex_stage(problem, region, options):
     ``stats['fallback']`` records what failed on the way.
     """
     method = options.method
+    criteria = options.criteria
     if problem.copies > 1 and method != 'lmi':
         sub = convex_stage(problem.single(), region, options)
         G = problem.embed(sub.G)
@@ -141,14 +153,15 @@ def convex_stage(problem, region, options):
             solver=sub.solver, status=sub.status,
             stats={'luenberger': sub.stats}, luenberger=sub)
         if sub.report is not None:      # else only a start, as sub is
-            result.report = verify_design(problem, G, region, convex=result)
+            result.report = verify_design(problem, G, region, convex=result,
+                                          criteria=criteria)
         return result
     failures = []
     for name, route in _routes(problem, region, options):
         try:
             result = route()
             result.report = verify_design(problem, result.G, region,
-                                          convex=result)
+                                          convex=result, criteria=criteria)
         except VerificationError as exc:
             failures.append((name, exc))
             if name == 'placement' and options.refine and \
@@ -182,13 +195,23 @@ def convex_stage(problem, region, options):
 def _routes(problem, region, options):
     """The convex routes to try, in order: ``[(name, thunk), ...]``."""
     method = options.method
-    riccati_ok = riccati_applies(problem, region)
+    criteria = options.criteria
+    riccati_ok = riccati_applies(problem, region, criteria)
     if method == 'riccati' and not riccati_ok:
-        raise ArgumentError("method='riccati' needs a continuous plant, no "
-                            "pole region other than a decay half-plane, and "
-                            "noise on every measurement (Dw Dwᵀ nonsingular)")
+        raise ArgumentError(
+            "method='riccati' needs a continuous plant, no pole region "
+            "other than a decay half-plane, and noise on every measurement "
+            "(Dw Dwᵀ nonsingular); for objective='h2' (the Kalman filter, "
+            "either time domain) noise on every measurement, no region and "
+            "no max_hinf=" if criteria.default or
+            criteria.objective == 'h2'
+            else "method='riccati' designs no bound on the H2 norm "
+            "(max_h2=): use method='lmi'")
     split = None
-    if method in ('modal', 'auto'):
+    if method == 'modal' and not criteria.default:
+        raise ArgumentError("method='modal' designs the plain H∞ observer; "
+                            f"for {criteria} use method='lmi'")
+    if method in ('modal', 'auto') and criteria.default:
         split = modal_applies(problem, region, options.lmi_max_states,
                               options.modal_guard)
     if method == 'modal' and split is None:
@@ -201,6 +224,8 @@ def _routes(problem, region, options):
     lmi = ('lmi', lambda: _lmi_design(problem, region, options))
     riccati = ('shifted riccati' if region is not None else 'riccati',
                lambda: _riccati_design(problem, region, options.margin))
+    if not criteria.default:
+        riccati = ('kalman', lambda: _kalman_design(problem))
     modal = ('modal lmi', lambda: _modal_design(problem, region, options,
                                                 split))
     if method == 'lmi':
@@ -250,9 +275,29 @@ def _placed_design(problem, region):
                         solver='placement')
 
 
+def _kalman_design(problem):
+    """The Kalman filter: the H2 optimum, its level certified."""
+    args = (problem.C, problem.Bw, problem.Dw, problem.Cz, problem.dt)
+    failure = None
+    for reg in regularisations(problem.A, problem.Bw, problem.Dw):
+        try:
+            L, level = kalman_filter(problem.A, *args, reg=reg)
+        except ParameterError as exc:
+            failure = exc
+            continue
+        # the certificate: the (regularised) error covariance; rounding
+        # of the Riccati solution is within the verification's tolerance
+        return ConvexResult(G=L, gamma_bound=level, gamma_convex=level,
+                            method='kalman', stage='riccati',
+                            solver='riccati',
+                            stats={'riccati': {'regularisation': reg}})
+    raise failure
+
+
 def _lmi_design(problem, region, options):
     sol = solve_observer_lmi(problem, region, options.margin,
-                             options.solver, options.solver_options)
+                             options.solver, options.solver_options,
+                             criteria=options.criteria)
     return ConvexResult(G=sol.G, gamma_bound=sol.gamma_bound,
                         gamma_convex=sol.gamma_convex, method='lmi', stage='lmi',
                         solver=sol.stats['solver'], status=sol.status,

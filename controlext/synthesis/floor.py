@@ -1,4 +1,4 @@
-"""The floor: the optimal H∞ filter level with no constraint at all.
+"""The floor: the optimal filter level with no constraint at all.
 
 ``γ∞*`` is the least H∞ norm from noise to estimation error that *any*
 causal linear estimator reaches on the plant — of any structure or order,
@@ -10,6 +10,10 @@ Continuous time with noise on every measurement: bisection on the filter
 Riccati equation (milliseconds).  Otherwise (discrete time, noise-free
 measurements, a Riccati bisection that fails): the bounded-real LMI with
 no region, which is exact for one copy.
+
+For the H2 norm the floor is the Kalman filter's (``criterion='h2'``):
+the Riccati equation where every measurement is noisy, else the H2 LMI
+with no region, exact for one copy as well.
 
 Examples
 --------
@@ -29,7 +33,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..exceptions import ParameterError, SolverError
-from .riccati import hinf_filter_level
+from .riccati import hinf_filter_level, kalman_filter
 
 if TYPE_CHECKING:
     from .problem import ObserverProblem
@@ -38,24 +42,36 @@ __all__ = ['filter_floor']
 
 
 def filter_floor(problem: ObserverProblem, solver: str | None = None,
-                 rtol: float = 1e-7, max_states: int = 40) -> float | None:
-    """``γ∞*`` of ``problem``'s one-copy estimation problem, or None when
-    neither route gives it (the LMI is not tried above ``max_states``
-    states; the floor only informs, it holds no design back)."""
+                 rtol: float = 1e-7, max_states: int = 40,
+                 criterion: str = 'hinf') -> float | None:
+    """``γ∞*`` (or, with ``criterion='h2'``, the Kalman filter's H2 norm)
+    of ``problem``'s one-copy estimation problem, or None when neither
+    route gives it (the LMI is not tried above ``max_states`` states; the
+    floor only informs, it holds no design back)."""
     one = problem.single()
-    if not one.dt and np.linalg.matrix_rank(one.Dw @ one.Dw.T) == one.p:
+    noisy = np.linalg.matrix_rank(one.Dw @ one.Dw.T) == one.p
+    level = np.inf
+    if criterion == 'h2' and noisy:
+        try:
+            level = kalman_filter(one.A, one.C, one.Bw, one.Dw, one.Cz,
+                                  one.dt)[1]
+        except (ParameterError, np.linalg.LinAlgError):
+            pass
+    elif not one.dt and noisy:
         try:
             level = hinf_filter_level(one.A, one.C, one.Bw, one.Dw, one.Cz,
                                       rtol=rtol)
         except (ParameterError, np.linalg.LinAlgError):
-            level = np.inf
-        if np.isfinite(level):
-            return float(level)
+            pass
+    if np.isfinite(level):
+        return float(level)
     if one.n > max_states:
         return None
+    from .criteria import Criteria
     from .lmi import solve_observer_lmi
     try:
-        sol = solve_observer_lmi(one, None, margin=1.0, solver=solver)
+        sol = solve_observer_lmi(one, None, margin=1.0, solver=solver,
+                                 criteria=Criteria(criterion))
     except (SolverError, ParameterError):
         return None
     return float(sol.gamma_convex)

@@ -8,7 +8,18 @@ variables are ``X = Xᵀ > 0``, ``Y = X G`` and ``γ``; with
 * discrete bounded-real lemma (Stein form)
   ``[[−X, Z, M, 0], [*, −X, 0, Czeᵀ], [*, *, −γI, 0], [*, *, *, −γI]] < 0``;
 * a pole region with characteristic matrices ``(L, M_r)``:
-  ``L ⊗ X + M_r ⊗ Zᵀ + M_rᵀ ⊗ Z ≤ 0``.
+  ``L ⊗ X + M_r ⊗ Zᵀ + M_rᵀ ⊗ Z ≤ 0``;
+* for the H2 norm (``objective='h2'`` or ``max_h2=`` of
+  :class:`~controlext.synthesis.criteria.Criteria`), with ``W = Wᵀ``:
+  ``[[Z + Zᵀ, Czeᵀ], [*, −I]] < 0`` (discrete:
+  ``[[X, Zᵀ, Czeᵀ], [*, X, 0], [*, *, I]] > 0``) and
+  ``[[W, Mᵀ], [M, X]] >= 0``, so that ``X`` bounds the observability
+  Gramian and ``‖T‖₂² <= tr(Mᵀ X⁻¹ M) <= tr W``.
+
+The same ``X`` serves every constraint (the mixed H2/H∞ problem of
+Khargonekar & Rotea, as MATLAB's ``h2hinfsyn`` solves it): the level
+minimised is the objective's, and a bound on the other norm is a
+constraint at that level.
 
 The gain is ``G = X⁻¹ Y``. On plants with unstable modes the optimal γ is
 usually not attained and ``X`` tends to singular, so the engine solves in
@@ -50,6 +61,7 @@ import numpy as np
 import cvxpy as cp
 
 from ..exceptions import SolverError
+from .criteria import Criteria
 
 __all__ = ['LMISolution', 'solve_observer_lmi']
 
@@ -83,7 +95,7 @@ class LMISolution:
 
 
 def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
-                       solver_options=None):
+                       solver_options=None, criteria=None):
     """Solve the observer LMI of ``problem`` in two stages.
 
     Parameters
@@ -99,6 +111,9 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
         cvxpy solver name (default ``'CLARABEL'``).
     solver_options : dict, optional
         Keyword arguments passed to the solver.
+    criteria : Criteria, optional
+        The norm minimised (the level ``γ`` is its bound) and the norm
+        bounded (default: minimise the H∞ norm).
 
     Returns
     -------
@@ -106,9 +121,12 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
     """
     solver = solver or cp.CLARABEL
     opts = dict(solver_options or {})
-    X, Y, gamma, brl, cons = _build(problem, region)
+    criteria = Criteria() if criteria is None else criteria
+    X, Y, gamma, level, cons = _build(problem, region, criteria)
+    # the H2 level enters squared (tr W <= γ²): stage 1 minimises γ² there
+    squared = criteria.objective == 'h2'
 
-    stage1 = cp.Problem(cp.Minimize(gamma), cons + [brl(gamma)])
+    stage1 = cp.Problem(cp.Minimize(gamma), cons + level(gamma))
     stats = {'solver': solver}
     # When γ* is not attained (unstable modes) clarabel may end stage 1
     # 'optimal_inaccurate': its γ then only locates the optimum, and the
@@ -117,7 +135,8 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
         (cp.OPTIMAL,)
     _solve(stage1, solver, opts, 'stage 1 (minimise γ)', stats, 'stage1',
            accept=accept)
-    gamma_convex = float(gamma.value)
+    gamma_convex = float(np.sqrt(max(gamma.value, 0.0))) if squared else \
+        float(gamma.value)
     Xv, Yv = X.value, Y.value
     X1, Y1 = Xv, Yv
     gbound = gamma_convex
@@ -137,14 +156,15 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
         for k, factor in enumerate(tries):
             gbound = max(factor * gamma_convex, gamma_convex + floor)
             t = cp.Variable()
-            stage2 = cp.Problem(cp.Maximize(t), cons + [
-                brl(cp.Constant(gbound)), X >> t * np.eye(n),
-                X << xmax * np.eye(n)])
+            stage2 = cp.Problem(cp.Maximize(t), cons + level(cp.Constant(
+                gbound**2 if squared else gbound)) + [
+                X >> t * np.eye(n), X << xmax * np.eye(n)])
             try:
                 _solve(stage2, solver, opts, 'stage 2 (condition X)', stats,
                        'stage2', accept=(cp.OPTIMAL, cp.OPTIMAL_INACCURATE))
                 if stage2.status != cp.OPTIMAL and not _verifies(
-                        problem, region, X.value, Y.value, gbound):
+                        problem, region, X.value, Y.value, gbound,
+                        criteria):
                     raise SolverError(
                         "stage 2 (condition X): solver ended with status "
                         f"'{stage2.status}' and its gain does not verify",
@@ -153,7 +173,8 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
                     stats.setdefault('stage2', {})['verified'] = True
                 Xv, Yv = X.value, Y.value
                 if stage1.status == cp.OPTIMAL and _stage1_is_better(
-                        problem, region, X1, Y1, Xv, Yv, gamma_convex):
+                        problem, region, X1, Y1, Xv, Yv, gamma_convex,
+                        criteria):
                     Xv, Yv, gbound = X1, Y1, gamma_convex
                     stats.setdefault('stage2', {})['kept'] = 'stage 1'
                 break
@@ -173,7 +194,8 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
                        Y=Yv, status='optimal', stats=stats)
 
 
-def _stage1_is_better(problem, region, X1, Y1, X2, Y2, gamma_convex):
+def _stage1_is_better(problem, region, X1, Y1, X2, Y2, gamma_convex,
+                      criteria):
     """Is the stage-1 gain worth keeping over the conditioned one?
 
     Where ``γ*`` is attained the stage-1 gain is often of moderate norm
@@ -182,22 +204,22 @@ def _stage1_is_better(problem, region, X1, Y1, X2, Y2, gamma_convex):
     in the region), its true norm is lower by more than 0.1 % and its
     norm is at most ten times the conditioned gain's (where ``γ*`` is not
     attained it is orders of magnitude larger, and is not kept)."""
-    from ..norms import hinfnorm_matrices
     G1, G2 = _gain(X1, Y1), _gain(X2, Y2)
     if G1 is None or G2 is None or \
             not np.linalg.norm(G1, 2) <= 10 * np.linalg.norm(G2, 2):
         return False
-    report = _verified(problem, region, G1, gamma_convex)
-    h2 = hinfnorm_matrices(*problem.error_system(G2), problem.dt)[0]
-    return report is not None and report.hinf < (1 - 1e-3) * h2
+    report = _verified(problem, region, G1, gamma_convex, criteria)
+    other = _verified(problem, None, G2, None, criteria, check=False)
+    return report is not None and criteria.value(report) < \
+        (1 - 1e-3) * criteria.value(other)
 
 
-def _verifies(problem, region, Xv, Yv, gbound):
+def _verifies(problem, region, Xv, Yv, gbound, criteria):
     """Does the gain of an inexact solution pass the design verification
-    (true H∞ norm within ``gbound``, poles in the region)?"""
+    (true norm within ``gbound``, poles in the region, norm bounds)?"""
     G = _gain(Xv, Yv)
     return G is not None and \
-        _verified(problem, region, G, gbound) is not None
+        _verified(problem, region, G, gbound, criteria) is not None
 
 
 def _gain(Xv, Yv):
@@ -210,18 +232,20 @@ def _gain(Xv, Yv):
         return None
 
 
-def _verified(problem, region, G, gbound):
+def _verified(problem, region, G, gbound, criteria, check=True):
     """The design report of ``G`` if it verifies at ``gbound``, else None."""
     from ..exceptions import VerificationError
     from .verify import verify_design
     try:
         return verify_design(problem, G, region, gamma_bound=gbound,
-                             method='lmi')
+                             method='lmi', criteria=criteria, check=check)
     except VerificationError:
         return None
 
 
-def _build(problem, region):
+def _build(problem, region, criteria):
+    """Variables, ``level(g)`` (the constraints ``objective <= g``, with
+    ``g`` squared for the H2 norm) and the other constraints."""
     Ae, Ce, Bwe, Dwe, Cze = (problem.Ae, problem.Ce, problem.Bwe,
                              problem.Dwe, problem.Cze)
     N, q, nz = Ae.shape[0], Bwe.shape[1], Cze.shape[0]
@@ -254,7 +278,29 @@ def _build(problem, region):
         for L, Mr in region.blocks():
             blk = cp.kron(L, X) + cp.kron(Mr, Z.T) + cp.kron(Mr.T, Z)
             cons.append(0.5 * (blk + blk.T) << 0)
-    return X, Y, gamma, brl, cons
+    W = None
+    if 'h2' in criteria.norms:
+        W = cp.Variable((q, q), symmetric=True, name='W')
+        if discrete:
+            lyap = cp.bmat([
+                [X, Z.T, Cze.T],
+                [Z, X, np.zeros((N, nz))],
+                [Cze, np.zeros((nz, N)), np.eye(nz)]])
+            lyap = 0.5 * (lyap + lyap.T)
+            cons.append(lyap >> eps * np.eye(lyap.shape[0]))
+        else:
+            lyap = cp.bmat([[Z + Z.T, Cze.T], [Cze, -np.eye(nz)]])
+            lyap = 0.5 * (lyap + lyap.T)
+            cons.append(lyap << -eps * np.eye(lyap.shape[0]))
+        wblk = cp.bmat([[W, M.T], [M, X]])
+        cons.append(0.5 * (wblk + wblk.T) >> 0)
+
+    def bound(name, g):
+        return [brl(g)] if name == 'hinf' else [cp.trace(W) <= g]
+
+    for name, value in criteria.bounds:
+        cons += bound(name, value**2 if name == 'h2' else value)
+    return X, Y, gamma, lambda g: bound(criteria.objective, g), cons
 
 
 def _solve(prob, solver, opts, what, stats, key, accept=(cp.OPTIMAL,)):

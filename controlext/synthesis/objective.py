@@ -1,18 +1,21 @@
-"""The objective of refinement: the true H∞ norm under a pole region.
+"""The objective of refinement: the true norm under a pole region.
 
 For a gain ``G`` of an :class:`~controlext.synthesis.problem.ObserverProblem`,
 :class:`Objective` evaluates the exact penalty
 
-    f(G) = ‖T_G‖∞ + τ ‖G‖² + ρ · max(0, g(G) + δ),
+    f(G) = ‖T_G‖ + τ ‖G‖² + ρ · max(0, g(G) + δ),
 
-where ``g(G)`` is the largest constraint margin (``<= 0`` when every
-constraint holds): the region margins over the eigenvalues of
-``Ae − G Ce`` and, with a gain bound ``κ``, ``s (‖W G‖₂ / κ − 1)``
-(``W`` diagonal weights giving the gain in the user's units, ``s`` the
-margins' rate scale); and its gradient: that of the norm from the singular
-vectors at the peak frequency, that of a region margin from the right and
-left eigenvectors of the critical eigenvalue, that of the gain margin from
-the top singular vectors of ``W G``.
+where ``‖T_G‖`` is the norm the criteria minimise (H∞ by default, or H2;
+:class:`~controlext.synthesis.criteria.Criteria`) and ``g(G)`` the largest
+constraint margin (``<= 0`` when every constraint holds): the region
+margins over the eigenvalues of ``Ae − G Ce``; with a gain bound ``κ``,
+``s (‖W G‖₂ / κ − 1)`` (``W`` diagonal weights giving the gain in the
+user's units, ``s`` the margins' rate scale); with a bound ``b`` on the
+other norm, ``s (‖T_G‖ / b − 1)``.  Its gradient: that of the H∞ norm from
+the singular vectors at the peak frequency, that of the H2 norm from the
+two Gramians, that of a region margin from the right and left
+eigenvectors of the critical eigenvalue, that of the gain margin from the
+top singular vectors of ``W G``.
 
 One evaluation is one eigendecomposition of the error matrix (it gives the
 stability test, the region margins and the critical eigenvector) and one
@@ -41,6 +44,7 @@ import math
 import numpy as np
 
 from ..norms import hinfnorm_matrices
+from .criteria import Criteria, h2_parts
 
 __all__ = ['Objective']
 
@@ -69,7 +73,10 @@ class Objective:
     gain_weights : array_like, optional
         The diagonal of ``W`` (one weight per gain row; default ones).
     gain_units : float, optional
-        ``s``, the scale of the gain margin against the region margins.
+        ``s``, the scale of the gain and norm margins against the region
+        margins.
+    criteria : Criteria, optional
+        The norm minimised and the norm bounded (default: minimise H∞).
 
     Calling the objective with a flat gain ``x`` returns ``(f, ∇f)``
     (``(f, None)`` with ``grad=False``); outside the stability region
@@ -77,15 +84,21 @@ class Objective:
     return a lower bound of ``f`` that exceeds ``a`` — the penalty plus
     the frequency response at the last few distinct peak frequencies met,
     a batch of linear solves instead of ``ab13dd`` — which is all that a
-    line search rejecting a trial step needs to know; a point inside the
-    region is rejected so only if the bound also shows it is no new
-    ``best``.  ``count`` counts the points evaluated; ``best`` is the
-    smallest norm met inside the region and its gain.
+    line search rejecting a trial step needs to know (when the H∞ norm is
+    minimised); a point inside the region is rejected so only if the bound
+    also shows it is no new ``best``.  ``count`` counts the points
+    evaluated; ``best`` is the smallest norm met inside the constraints
+    and its gain.
     """
 
     def __init__(self, problem, region, rho=0.0, delta=0.0, tikhonov=0.0,
-                 peaks=4, gain_bound=None, gain_weights=None, gain_units=1.0):
+                 peaks=4, gain_bound=None, gain_weights=None, gain_units=1.0,
+                 criteria=None):
         self.prob, self.region = problem, region
+        self.criteria = Criteria() if criteria is None else criteria
+        self.primary = self.criteria.objective
+        self.norm_bounds = self.criteria.bounds
+        self.needed = self.criteria.norms
         self.gain_bound, self.gain_units = gain_bound, gain_units
         self.gain_weights = np.ones(problem.gain_shape[0]) \
             if gain_weights is None else np.asarray(gain_weights, float)
@@ -110,8 +123,9 @@ class Objective:
 
     @property
     def constrained(self):
-        """Is there a constraint (a region or a gain bound)?"""
-        return self.region is not None or self.gain_bound is not None
+        """Is there a constraint (a region, a gain or a norm bound)?"""
+        return self.region is not None or self.gain_bound is not None or \
+            bool(self.norm_bounds)
 
     def _point(self, G):
         """Error matrix, its eigendecomposition and the worst margin."""
@@ -137,6 +151,11 @@ class Objective:
 
     def _margin_grad(self, lam, V, crit):
         """Gradient of the critical margin with respect to G."""
+        if crit[0] == 'norm':
+            _, name, Acl, Bcl, norms = crit
+            bound = dict(self.norm_bounds)[name]
+            return self.gain_units / bound * self._gradient(
+                name, Acl, Bcl, norms)
         if crit[0] == 'gain':
             U, _, Vh = np.linalg.svd(crit[1])
             return self.gain_units / self.gain_bound * np.outer(
@@ -157,6 +176,38 @@ class Objective:
         """True H∞ norm and peak frequency (``inf`` if unstable)."""
         return hinfnorm_matrices(Acl, Bcl, self.Ccl, self.Dcl, self.dt,
                                  poles=lam)
+
+    def _norms(self, Acl, Bcl, lam, names):
+        """``{name: (value, detail)}`` of the norms ``names`` (``inf`` if
+        unstable): the peak frequency for H∞, the derivatives for H2."""
+        out = {}
+        if 'hinf' in names:
+            out['hinf'] = self._hinf(Acl, Bcl, lam)
+        if 'h2' in names:
+            stable = bool(np.all(np.abs(lam) < 1)) if self.dt else \
+                bool(np.all(lam.real < 0))
+            out['h2'] = (np.inf, None) if not stable else (
+                h2_parts(Acl, Bcl, self.Ccl, self.dt)[0], None)
+        return out
+
+    def _gradient(self, name, Acl, Bcl, norms):
+        """Gradient with respect to G of the norm ``name`` at a point."""
+        if name == 'hinf':
+            return self._norm_grad(Acl, Bcl, norms['hinf'][1])
+        _, dA, dB = h2_parts(Acl, Bcl, self.Ccl, self.dt)
+        # Acl = Ae − G Ce, Bcl = G Dwe − Bwe
+        return dB @ self.Dwe.T - dA @ self.Ce.T
+
+    def _bounded(self, norms, worst, crit, Acl, Bcl):
+        """The worst margin and its source, with the norm bounds."""
+        for name, bound in self.norm_bounds:
+            value = norms[name][0]
+            if not np.isfinite(value):
+                continue            # unstable: the norm is inf anyway
+            m = self.gain_units * (value / bound - 1.0)
+            if m > worst:
+                worst, crit = m, ('norm', name, Acl, Bcl, norms)
+        return worst, crit
 
     def _norm_grad(self, Acl, Bcl, w):
         """Gradient of ``σmax(T(z))`` at the peak: ``Re(a bᴴ)``."""
@@ -198,15 +249,24 @@ class Objective:
         """Worst constraint margin at ``G`` and its gradient."""
         if not self.constrained:
             return -np.inf, np.zeros_like(G)
-        _, lam, V, m, crit = self._point(G)
+        Acl, lam, V, m, crit = self._point(G)
+        if self.norm_bounds:
+            Bcl = G @ self.Dwe - self.Bwe
+            norms = self._norms(Acl, Bcl, lam,
+                                [name for name, _ in self.norm_bounds])
+            m, crit = self._bounded(norms, m, crit, Acl, Bcl)
+        if crit is None:
+            return m, np.zeros_like(G)
         return m, self._margin_grad(lam, V, crit)
 
     def norm(self, G):
-        """True H∞ norm at ``G`` (``inf`` if the error is unstable)."""
+        """The minimised norm at ``G`` (``inf`` if the error is
+        unstable)."""
         G = np.asarray(G, dtype=float).reshape(self.shape)
         Acl = self.Ae - G @ self.Ce
-        return self._hinf(Acl, G @ self.Dwe - self.Bwe,
-                          np.linalg.eigvals(Acl))[0]
+        return self._norms(Acl, G @ self.Dwe - self.Bwe,
+                           np.linalg.eigvals(Acl),
+                           (self.primary,))[self.primary][0]
 
     def __call__(self, x, grad=True, above=None):
         # the line search asks again for the point it has just accepted:
@@ -215,17 +275,18 @@ class Objective:
         key = x.tobytes()
         last = self._last
         if last is not None and last[0] == key:
-            G, Acl, Bcl, lam, V, m, crit, gamma, w, sq = last[1:]
+            G, Acl, Bcl, lam, V, m, crit, norms, sq = last[1:]
         else:
             self.count += 1
             G = x.reshape(self.shape)
             Acl, lam, V, m, crit = self._point(G)
             Bcl = G @ self.Dwe - self.Bwe
             sq = float(np.sum(G * G))
-            if above is not None and self._peaks:
+            if above is not None and self._peaks and self.primary == 'hinf':
                 # a line search only asks whether f(x) > above: the penalty
                 # and the gain at recent peak frequencies (a lower bound of
-                # the norm) often say so without ab13dd
+                # the norm) often say so without ab13dd (the norm bounds
+                # only add to the margin, so the bound holds without them)
                 bound = self.tikhonov * sq + \
                     self.rho * max(0.0, m + self.delta)
                 peak = np.inf
@@ -234,14 +295,19 @@ class Objective:
                     bound += peak
                 if bound > above and (m > 0 or peak >= self.best[0]):
                     return bound, None
-            gamma, w = self._hinf(Acl, Bcl, lam)
-            self._last = (key, G.copy(), Acl, Bcl, lam, V, m, crit, gamma,
-                          w, sq)
-            if math.isfinite(w) and self.peaks and all(abs(w - p) > 1e-3 * (abs(w) + 1e-9)
-                                        for p in self._peaks):
+            norms = self._norms(Acl, Bcl, lam, self.needed)
+            m, crit = self._bounded(norms, m, crit, Acl, Bcl)
+            self._last = (key, G.copy(), Acl, Bcl, lam, V, m, crit, norms,
+                          sq)
+            w = norms['hinf'][1] if 'hinf' in norms else np.nan
+            if math.isfinite(w) and self.peaks and all(
+                    abs(w - p) > 1e-3 * (abs(w) + 1e-9)
+                    for p in self._peaks):
                 self._peaks = [w] + self._peaks[:self.peaks - 1]
+            gamma = norms[self.primary][0]
             if math.isfinite(gamma) and m <= 0 and gamma < self.best[0]:
                 self.best = (gamma, G.copy())
+        gamma = norms[self.primary][0]
         if not math.isfinite(gamma):
             return np.inf, (np.zeros_like(x) if grad else None)
         value = gamma + self.tikhonov * sq
@@ -250,7 +316,8 @@ class Objective:
             value += self.rho * (m + self.delta)
         if not grad:
             return value, None
-        g = self._norm_grad(Acl, Bcl, w) + 2 * self.tikhonov * G
+        g = self._gradient(self.primary, Acl, Bcl, norms) + \
+            2 * self.tikhonov * G
         if penalised:
             g = g + self.rho * self._margin_grad(lam, V, crit)
         return value, g.ravel()

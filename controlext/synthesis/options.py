@@ -26,6 +26,7 @@ from typing import Any
 
 from .._checks import check_choice, check_number
 from ..exceptions import ArgumentError, ParameterError
+from .criteria import Criteria
 
 __all__ = ['SynthesisOptions', 'RefineOptions', 'METHODS']
 
@@ -214,6 +215,13 @@ class SynthesisOptions:
         ``max(1, ‖A‖, the region's speed)`` over ``‖C‖``, on a unit-free
         realisation) and warns when that bound is reached; ``None`` sets
         no bound.
+    objective : {'hinf', 'h2'}
+        The norm from noise to estimation error that is minimised: the
+        worst-case gain (H∞) or the RMS error under unit white noise (H2).
+    max_hinf, max_h2 : float or None
+        A bound on the norm that is not minimised (the mixed H2/H∞
+        problem; :class:`~controlext.synthesis.criteria.Criteria`), held
+        by every stage and verified on the result.
     """
     margin: float = 1.02
     method: str = 'auto'
@@ -226,6 +234,9 @@ class SynthesisOptions:
     modal_guard: float = 0.05
     refine_options: RefineOptions = field(default_factory=RefineOptions)
     max_gain: float | str | None = 'auto'
+    objective: str = 'hinf'
+    max_hinf: float | None = None
+    max_h2: float | None = None
 
     def __post_init__(self):
         set_ = lambda name, value: object.__setattr__(self, name, value)
@@ -252,6 +263,14 @@ class SynthesisOptions:
                                      f"{self.max_gain!r}")
             set_('max_gain', check_number(self.max_gain, 'max_gain',
                                           low=0, low_open=True))
+        criteria = Criteria(self.objective, self.max_hinf, self.max_h2)
+        set_('max_hinf', criteria.max_hinf)
+        set_('max_h2', criteria.max_h2)
+
+    @property
+    def criteria(self) -> Criteria:
+        """The norm minimised and the norm bounded."""
+        return Criteria(self.objective, self.max_hinf, self.max_h2)
 
     def replace(self, **changes: Any) -> SynthesisOptions:
         """A copy with some fields changed (checked again)."""
@@ -286,6 +305,15 @@ class SynthesisOptions:
                             type(value) is type(defaults[key]) and
                             value == defaults[key]))}
         return options.replace(**changes) if changes else options
+
+    @classmethod
+    def from_call(cls, options: SynthesisOptions | None,
+                  arguments: dict[str, Any]) -> SynthesisOptions:
+        """:meth:`from_keywords` with those of a factory's ``arguments``
+        (its ``locals()``) that name a field."""
+        names = {f.name for f in fields(cls)}
+        return cls.from_keywords(options, **{
+            key: value for key, value in arguments.items() if key in names})
 
     @property
     def solver_name(self) -> str:

@@ -33,7 +33,8 @@ from .._checks import (check_detectable, check_region_reachable,
                        check_system)
 from .floor import filter_floor
 from .tradeoff import tradeoff_of
-from ..exceptions import GainWarning, VerificationError
+from ..exceptions import GainWarning, ParameterError, VerificationError
+from .criteria import NAMES
 from .convex import convex_stage
 from .refine import refine_gain
 from .regions import region_for
@@ -62,6 +63,19 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
                           system['states'])
     region = region_for(decay, region, problem.dt)
     check_problem(problem, region, what)
+    criteria = options.criteria
+    floors = {}
+    for name, bound in criteria.bounds:
+        # a bound below the unconstrained optimum is met by no estimator
+        floors[name] = filter_floor(problem, options.solver,
+                                    max_states=options.lmi_max_states,
+                                    criterion=name)
+        if floors[name] is not None and bound < floors[name] * (1 - 1e-6):
+            raise ParameterError(
+                f"max_{name} = {bound:.6g} is below {floors[name]:.6g}, the "
+                f"least {NAMES[name]} any linear estimator reaches on this "
+                "plant (with no pole region at all): no observer meets it; "
+                f"ask for max_{name} >= {floors[name]:.6g}")
     # synthesis on a realisation whose scaling does not depend on the
     # units of the states; the gain is mapped back and verified as given
     d = problem.state_scaling()
@@ -75,7 +89,7 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
 
     def check(G, **info):
         return verify_design(problem, problem.unscale_gain(G, d), region,
-                             **info)
+                             criteria=criteria, **info)
 
     bound = gain_bound(scaled, d, options.max_gain, region)
     convex = convex_stage(scaled, region, options)      # bound-free
@@ -103,7 +117,9 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
                 "number) to lift the bound", GainWarning, stacklevel=3)
     warn_if_extreme(scaled, G, report, region)
     G = problem.unscale_gain(G, d)
-    floor = report.stats.get('floor_level', _no_floor)
+    # the trade-off reports the H∞ floor γ∞*, whatever was minimised
+    floor = report.stats.get('floor_level', _no_floor) \
+        if criteria.objective == 'hinf' else floors.get('hinf', _no_floor)
     if report.hinf <= _equal(0.0, problem):
         floor = 0.0 if floor is _no_floor else floor     # 0 <= floor <= γ
     if floor is _no_floor:
@@ -216,9 +232,11 @@ def synthesise(problem, region, options, convex=None, check=None,
     report : DesignReport
         Its verified report.
     """
+    criteria = options.criteria
     if check is None:
         def check(G, **info):
-            return verify_design(problem, G, region, **info)
+            return verify_design(problem, G, region, criteria=criteria,
+                                 **info)
     verify = check
     over_bound = []             # candidates the gain bound refused
 
@@ -249,26 +267,29 @@ def synthesise(problem, region, options, convex=None, check=None,
                                     gamma_bound=convex.gamma_bound)
         return convex.G, check(convex.G, convex=convex,
                                gamma_bound=convex.gamma_bound)
-    if best is not None and best.hinf <= _equal(0.0, problem):
-        # γ = 0 is the least any design can have, and no design counts as
+    if best is not None and criteria.value(best) <= _equal(0.0, problem):
+        # 0 is the least any design can have, and no design counts as
         # better than one this close to it (see the ranking below)
-        best.stats = dict(best.stats, floor='the convex design has γ = 0 '
-                          'to the ranking tolerance: nothing to refine')
+        best.stats = dict(best.stats, floor='the convex design has a norm '
+                          'of 0 to the ranking tolerance: nothing to refine')
         return convex.G, best
     starts = [(convex.stage, convex.G)]
     stats = dict(convex.stats)
     if floor is None:
         floor = filter_floor(problem, options.solver,
-                             max_states=options.lmi_max_states)
+                             max_states=options.lmi_max_states,
+                             criterion=criteria.objective)
     stats.update(floor_level=floor)
+    what = NAMES[criteria.objective]
     if best is not None and within and floor is not None and \
-            best.hinf <= floor + _equal(floor, problem):
+            criteria.value(best) <= floor + _equal(floor, problem):
         # the convex design is at the level no observer of any structure
         # can beat: refinement has nothing to gain
         best.stats = dict(stats, headroom=(
-            f"the convex design reaches the unconstrained H∞ filter level "
-            f"γ∞* = {floor:.6g} (γ = {best.hinf:.6g}): no observer of any "
-            "structure or order can do better, so it was not refined"))
+            f"the convex design reaches the unconstrained filter level "
+            f"{floor:.6g} of the {what} ({criteria.value(best):.6g}): no "
+            "observer of any structure or order can do better, so it was "
+            "not refined"))
         return convex.G, best
     if problem.copies > 1:
         single = options if options.method != 'lmi' else \
@@ -279,13 +300,13 @@ def synthesise(problem, region, options, convex=None, check=None,
                                   :problem.n]), floor=floor)
         starts.append(('luenberger', problem.embed(G1)))
         stats.update(luenberger_hinf=rep1.hinf)
-        if floor is not None and rep1.hinf <= floor + _equal(floor,
-                                                             problem):
+        one = criteria.value(rep1)
+        if floor is not None and one <= floor + _equal(floor, problem):
             # headroom: the one-copy design is at the level no observer
             # of any structure can beat; copies cannot improve on it
             stats['headroom'] = (
-                f"the one-copy design reaches the unconstrained H∞ filter "
-                f"level γ∞* = {floor:.6g} (γ = {rep1.hinf:.6g}): no "
+                f"the one-copy design reaches the unconstrained filter "
+                f"level {floor:.6g} of the {what} ({one:.6g}): no "
                 "observer of any structure or order can do better, so the "
                 "copies were not refined")
             try:
@@ -302,7 +323,7 @@ def synthesise(problem, region, options, convex=None, check=None,
                           executor=options.executor,
                           gain_bound=None if bound is None else bound[0],
                           gain_weights=None if bound is None else bound[1],
-                          floor=floor)
+                          floor=floor, criteria=criteria)
     except VerificationError as exc:
         # the convex design is verified already: keep it, say why
         stats['refine'] = dict(failed=str(exc))
@@ -342,9 +363,10 @@ def synthesise(problem, region, options, convex=None, check=None,
     # the smallest true norm wins; designs equal to within a tolerance are
     # ranked by gain norm (when γ* is not attained, or is 0, the last bits
     # of γ cost unbounded gains)
-    lowest = min(rep.hinf for rep, _ in verified)
+    lowest = min(criteria.value(rep) for rep, _ in verified)
     best, G = min(((rep, Gc) for rep, Gc in verified
-                   if rep.hinf <= lowest + _equal(lowest, problem)),
+                   if criteria.value(rep) <= lowest + _equal(lowest,
+                                                             problem)),
                   key=lambda item: np.linalg.norm(item[1], 2))
     best.method, best.stats = method, stats
     return G, best

@@ -305,8 +305,9 @@ def _rate_scale(problem, G):
 
 def refine_gain(problem, region, starts, *, options=None, seed=0,
                 executor=None, gain_bound=None, gain_weights=None,
-                floor=None):
-    """Minimise the true H∞ norm over the gain, inside ``region``.
+                floor=None, criteria=None):
+    """Minimise the true H∞ norm (or the norm ``criteria`` say) over the
+    gain, inside ``region``.
 
     Parameters
     ----------
@@ -346,6 +347,9 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         :func:`~controlext.synthesis.floor.filter_floor`): refinement
         stops once a point inside the region is within
         ``options.floor_tol`` of it.
+    criteria : Criteria, optional
+        The norm minimised and the norm bounded (held like the region);
+        default: minimise the H∞ norm.
 
     Returns
     -------
@@ -391,7 +395,7 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
             (0.3 if k < random_starts // 2 else 1.0)
         starts.append((f'{label}+random{k}',
                        base + scale * rng.normal(size=shape)))
-    probe = Objective(problem, region, peaks=opts.peaks)
+    probe = Objective(problem, region, peaks=opts.peaks, criteria=criteria)
     g0 = min(probe.norm(G) for _, G in given)
     g0 = g0 if np.isfinite(g0) else 1.0
     rho = opts.rho
@@ -401,7 +405,7 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
     reg = opts.tikhonov * max(g0, 1e-3) / max(1.0, float(np.sum(G1 * G1)))
     obj = Objective(problem, region, rho, opts.delta, reg, opts.peaks,
                     gain_bound=gain_bound, gain_weights=gain_weights,
-                    gain_units=_rate_scale(problem, G1))
+                    gain_units=_rate_scale(problem, G1), criteria=criteria)
 
     # random starts of large gains are often far outside the region: give
     # the feasibility push fewer steps there (each costs an eigen-

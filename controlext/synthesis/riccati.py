@@ -25,7 +25,8 @@ import scipy.linalg as la
 
 from ..exceptions import ParameterError
 
-__all__ = ['hinf_filter_level', 'hinf_filter_gain', 'regularisations']
+__all__ = ['hinf_filter_level', 'hinf_filter_gain', 'kalman_filter',
+           'regularisations']
 
 
 def _data(A, C, Bw, Dw, Cz, reg=0.0):
@@ -133,3 +134,41 @@ def hinf_filter_gain(A, C, Bw, Dw, Cz, gamma, reg=0.0):
                              "level; no gain reaches it")
     A, C, Bw, Dw, Cz, Ri = data[:6]
     return (Y @ C.T + Bw @ Dw.T) @ Ri
+
+
+def kalman_filter(A, C, Bw, Dw, Cz, dt=0, reg=0.0):
+    """The Kalman filter in observer form: ``(L, h)`` with ``h`` the H2
+    norm of its error system ``sqrt(tr(Cz Y Czᵀ))`` (``Y`` the error
+    covariance under unit white noise ``w``), the least any linear
+    estimator reaches.
+
+    Continuous time: the filter Riccati equation above with ``γ = ∞``;
+    discrete time: the predictor's ``A Y Aᵀ − Y − (A Y Cᵀ + S)(R + C Y Cᵀ)⁻¹
+    (C Y Aᵀ + Sᵀ) + Bw Bwᵀ = 0``, ``S = Bw Dwᵀ``, ``L = (A Y Cᵀ + S)
+    (R + C Y Cᵀ)⁻¹`` (the error ``e_{k+1} = (A − L C) e_k + (L Dw − Bw) w_k``
+    of this package's discrete observers).  ``reg`` adds the process noise
+    ``reg · I`` (:func:`regularisations`): ``h`` is then a certified bound
+    for the gain on the original problem.
+    """
+    A, C, Bw, Dw, Cz, Ri, Ab, Q = _data(A, C, Bw, Dw, Cz, reg)
+    if not dt:
+        Y = _riccati(Ab, C.T @ Ri @ C, Q)
+        if Y is None:
+            raise ParameterError("the Kalman filter Riccati equation has no "
+                                 "stabilising solution")
+        L = (Y @ C.T + Bw @ Dw.T) @ Ri
+    else:
+        R, S = Dw @ Dw.T, Bw @ Dw.T
+        try:
+            with np.errstate(all='ignore'):
+                Y = la.solve_discrete_are(
+                    A.T, C.T, Bw @ Bw.T + reg * np.eye(A.shape[0]), R, s=S)
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise ParameterError("the Kalman predictor Riccati equation has "
+                                 f"no stabilising solution ({exc})") from exc
+        if not np.all(np.isfinite(Y)):
+            raise ParameterError("the Kalman predictor Riccati equation has "
+                                 "no stabilising solution")
+        Y = 0.5 * (Y + Y.T)
+        L = la.solve((R + C @ Y @ C.T).T, (A @ Y @ C.T + S).T).T
+    return L, float(np.sqrt(max(np.trace(Cz @ Y @ Cz.T), 0.0)))

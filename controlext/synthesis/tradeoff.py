@@ -46,6 +46,7 @@ import scipy.linalg as la
 
 from .._typing import Array, ArrayLike
 from ..norms import hinfnorm_matrices
+from .criteria import h2_norm
 from .verify import REGION_TOL, decay_rate
 
 if TYPE_CHECKING:
@@ -108,46 +109,6 @@ class Tradeoff:
             f"under relative gain errors {{{sens}}}",
             f"the gain keeps its region rounded to {self.digits} "
             "significant digits"])
-
-
-def h2_norm(A: ArrayLike, B: ArrayLike, C: ArrayLike, dt: float = 0) -> float:
-    """H2 norm of ``(A, B, C, 0)`` from its controllability Gramian
-    (``inf`` if unstable)."""
-    A, B, C = (np.asarray(M, dtype=float) for M in (A, B, C))
-    if A.shape[0] == 0:
-        return 0.0
-    if decay_rate(la.eigvals(A), dt) <= 0:
-        return float('inf')
-    if dt:
-        try:
-            P = la.solve_discrete_lyapunov(A, B @ B.T)
-        except np.linalg.LinAlgError:
-            # scipy's bilinear route inverts A + I, which a far from normal
-            # A (a fragile campaign design: ‖A‖ 6e8) makes singular to
-            # rounding though its spectrum is far from -1
-            P = _stein_doubling(A, B @ B.T)
-    else:
-        P = la.solve_continuous_lyapunov(A, -B @ B.T)
-    return float(np.sqrt(max(np.trace(C @ P @ C.T), 0.0)))
-
-
-def _stein_doubling(A: np.ndarray, Q: np.ndarray,
-                    steps: int = 200) -> np.ndarray:
-    """``P = Σ_k A^k Q A^kᵀ`` (the solution of ``A P Aᵀ − P + Q = 0`` for a
-    Schur-stable ``A``) by Smith's doubling, ``P ← P + A P Aᵀ, A ← A²``:
-    no inverse, so it holds where ``A + I`` is singular to rounding; an
-    overflow (transient growth beyond the floats) gives ``inf``."""
-    P = Q.copy()
-    with np.errstate(over='ignore', invalid='ignore'):
-        for _ in range(steps):
-            step = A @ P @ A.T
-            P = P + step
-            A = A @ A
-            if not np.all(np.isfinite(P)):
-                return np.full_like(P, np.inf)
-            if np.linalg.norm(step) <= 1e-16 * np.linalg.norm(P):
-                break
-    return P
 
 
 def transient(problem: ObserverProblem, G: ArrayLike, points: int = 800

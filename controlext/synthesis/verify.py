@@ -29,6 +29,7 @@ import control as ct
 
 from ..exceptions import VerificationError
 from ..norms import hinfnorm
+from .criteria import NAMES, Criteria, h2_norm
 
 if TYPE_CHECKING:
     from .regions import Region
@@ -40,6 +41,8 @@ __all__ = ['DesignReport', 'verify_design']
 BOUND_RTOL = 1e-5
 #: absolute tolerance, for bounds near zero
 BOUND_ATOL = 1e-5
+#: relative tolerance of a norm bound (max_hinf=, max_h2=)
+NORM_RTOL = 1e-6
 #: tolerance on region margins (absolute, scaled by the pole magnitude)
 REGION_TOL = 1e-6
 #: an error pole closer than this (relative) to the stability boundary
@@ -58,6 +61,11 @@ class DesignReport:
         ``'lmi+refine'``.
     hinf : float
         True H∞ norm of the error system (``inf`` if unstable).
+    h2 : float or None
+        Its H2 norm (the RMS error under unit white noise), computed where
+        the criteria involve it.
+    criteria : Criteria or None
+        What the design minimised and bounded (None: the H∞ norm).
     peak_frequency : float
         Frequency (rad/s) of the peak gain.
     decay : float
@@ -103,6 +111,8 @@ class DesignReport:
     time: float = 0.0
     stats: dict = field(default_factory=dict)
     tradeoff: Tradeoff | None = None
+    h2: float | None = None
+    criteria: Criteria | None = None
 
     @property
     def gamma_opt(self) -> float | None:
@@ -127,6 +137,8 @@ class DesignReport:
         lines = [f"H∞ norm (noise → error)   {self.hinf:.6g}"
                  + (f"  at ω = {self.peak_frequency:.4g} rad/s"
                     if np.isfinite(self.peak_frequency) else ""),
+                 *([f"H2 norm (white noise)     {self.h2:.6g}"]
+                   if self.h2 is not None else []),
                  f"decay rate                {self.decay:.6g}"
                  + (f"  (region {self.region})" if self.region is not None
                     else "")]
@@ -136,6 +148,8 @@ class DesignReport:
                          if self.gamma_convex is not None and
                          np.isfinite(self.gamma_convex) else
                          f"convex stage: certified   {self.gamma_bound:.6g}")
+        if self.criteria is not None and not self.criteria.default:
+            lines.append(f"criteria                  {self.criteria}")
         lines.append(f"gain from                 {self.stage} ({self.method}"
                      f", {self.time:.3g} s)")
         return '\n'.join(lines)
@@ -154,12 +168,14 @@ def decay_rate(poles, dt=0):
 
 
 def verify_design(problem, G, region=None, gamma_bound=None, method='given',
-                  check=True, convex=None, **info):
+                  check=True, convex=None, criteria=None, **info):
     """Compute the report of gain ``G`` on ``problem`` and check it.
 
     Raises :class:`VerificationError` (when ``check``) if the error system
-    is unstable, a pole is outside ``region`` or the true H∞ norm exceeds
-    ``gamma_bound`` beyond :data:`BOUND_RTOL`.  ``convex`` (a
+    is unstable, a pole is outside ``region``, the true value of the
+    minimised norm (``criteria``, default H∞) exceeds ``gamma_bound``
+    beyond :data:`BOUND_RTOL`, or a bounded norm exceeds its bound beyond
+    :data:`NORM_RTOL`.  ``convex`` (a
     :class:`~controlext.synthesis.convex.ConvexResult`) fills in the
     method, bound, γ*, solver, status and statistics of the convex stage.
     """
@@ -173,9 +189,14 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
     sys = ct.ss(*problem.error_system(G), problem.dt)
     poles = np.linalg.eigvals(sys.A) if sys.nstates else np.zeros(0)
     gamma, wpeak = hinfnorm(sys)
+    h2 = None
+    if criteria is not None and not criteria.default:
+        h2 = h2_norm(sys.A, sys.B, sys.C, problem.dt)
     report = DesignReport(method=method, hinf=gamma, peak_frequency=wpeak,
                           decay=decay_rate(poles, problem.dt), poles=poles,
-                          region=region, gamma_bound=gamma_bound, **info)
+                          region=region, gamma_bound=gamma_bound, h2=h2,
+                          criteria=criteria, **info)
+    criteria = Criteria() if criteria is None else criteria
     if not check:
         return report
     scale = max(1.0, float(np.max(np.abs(poles))) if poles.size else 1.0)
@@ -199,10 +220,17 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
             raise VerificationError(
                 f"the {method} design has poles outside {region} (worst "
                 f"margin {worst:.3g}); poles {np.round(poles, 6).tolist()}")
-    if gamma_bound is not None and gamma > gamma_bound * (1 + BOUND_RTOL) \
+    value = criteria.value(report)
+    if gamma_bound is not None and value > gamma_bound * (1 + BOUND_RTOL) \
             + BOUND_ATOL:
         raise VerificationError(
-            f"the {method} design's true H∞ norm {gamma:.6g} exceeds its "
-            f"certified bound {gamma_bound:.6g}")
+            f"the {method} design's true {NAMES[criteria.objective]} "
+            f"{value:.6g} exceeds its certified bound {gamma_bound:.6g}")
+    for name, bound in criteria.bounds:
+        value = getattr(report, name)
+        if value > bound * (1 + NORM_RTOL):
+            raise VerificationError(
+                f"the {method} design's {NAMES[name]} {value:.6g} exceeds "
+                f"max_{name} = {bound:.6g}")
     return report
 

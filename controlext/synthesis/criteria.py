@@ -1,0 +1,176 @@
+"""What a design is judged by: the norm it minimises and the bounds it keeps.
+
+By default a design minimises the H∞ norm from noise to estimation error
+(the worst-case noise gain γ).  :class:`Criteria` lets the user choose
+
+* ``objective='hinf'`` or ``'h2'`` — the H2 norm is the RMS estimation
+  error under unit white noise (``control.norm(obs, 2)``), what a Kalman
+  filter minimises;
+* ``max_hinf=`` / ``max_h2=`` — a bound on the other norm: the mixed
+  H2/H∞ problem of MATLAB's ``h2hinfsyn`` (the best white-noise error
+  whose worst-case gain stays below a bound, or the reverse).
+
+The same criteria are held by every stage: the convex stage as LMIs with
+one Lyapunov matrix (:mod:`~controlext.synthesis.lmi`, conservative and
+certified), refinement as exact penalties on the true norms
+(:mod:`~controlext.synthesis.objective`), and verification on the
+returned design (:func:`~controlext.synthesis.verify.verify_design`).
+
+The H2 norm of ``(A, B, C, 0)`` and its gradient come from the two
+Gramians: with ``Aᵀ Q + Q A + Cᵀ C = 0`` and ``A P + P Aᵀ + B Bᵀ = 0``
+(their Stein forms in discrete time), ``J = ‖T‖₂² = tr(Bᵀ Q B)``,
+``∂J/∂B = 2 Q B`` and ``∂J/∂A = 2 Q P`` (``2 Q A P`` in discrete time).
+
+Examples
+--------
+>>> from controlext.synthesis.criteria import Criteria, h2_norm
+>>> Criteria(objective='h2', max_hinf=0.9).bounds
+(('hinf', 0.9),)
+>>> round(h2_norm([[-2.0]], [[1.0]], [[1.0]]), 6)        # 1 / sqrt(4)
+0.5
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as la
+
+from .._checks import check_choice, check_number
+from ..exceptions import ArgumentError
+
+__all__ = ['Criteria', 'OBJECTIVES', 'h2_norm', 'h2_parts', 'NAMES']
+
+#: the norms a design may minimise
+OBJECTIVES = ('hinf', 'h2')
+#: how a norm is named to a user
+NAMES = {'hinf': 'H∞ norm', 'h2': 'H2 norm'}
+
+
+@dataclass(frozen=True)
+class Criteria:
+    """The norm a design minimises and the bound it keeps on the other.
+
+    Attributes
+    ----------
+    objective : {'hinf', 'h2'}
+        The norm from noise to estimation error that is minimised.
+    max_hinf, max_h2 : float or None
+        A bound on the norm that is not minimised (``max_hinf`` with
+        ``objective='h2'``, ``max_h2`` with ``objective='hinf'``).
+    """
+    objective: str = 'hinf'
+    max_hinf: float | None = None
+    max_h2: float | None = None
+
+    def __post_init__(self):
+        set_ = lambda name, value: object.__setattr__(self, name, value)
+        set_('objective', check_choice(self.objective, 'objective',
+                                       OBJECTIVES))
+        for name in ('max_hinf', 'max_h2'):
+            set_(name, check_number(getattr(self, name), name, low=0,
+                                    low_open=True, optional=True))
+        own = getattr(self, f'max_{self.objective}')
+        if own is not None:
+            other = 'h2' if self.objective == 'hinf' else 'hinf'
+            raise ArgumentError(
+                f"max_{self.objective}= bounds the norm that "
+                f"objective='{self.objective}' minimises already; bound the "
+                f"other one (max_{other}=) or minimise the other "
+                f"(objective='{other}')")
+
+    @property
+    def default(self) -> bool:
+        """Is this the plain H∞ design (no H2 involved)?"""
+        return self.objective == 'hinf' and self.max_h2 is None
+
+    @property
+    def bounds(self) -> tuple[tuple[str, float], ...]:
+        """``((norm, bound), ...)`` of the bounded norms."""
+        return tuple((name, value) for name, value in
+                     (('hinf', self.max_hinf), ('h2', self.max_h2))
+                     if value is not None)
+
+    @property
+    def norms(self) -> tuple[str, ...]:
+        """Every norm the criteria involve, the objective first."""
+        return (self.objective,) + tuple(name for name, _ in self.bounds)
+
+    def value(self, report) -> float:
+        """The objective's value on a design report."""
+        return float(getattr(report, self.objective))
+
+    def __str__(self) -> str:
+        text = f"minimise the {NAMES[self.objective]}"
+        for name, bound in self.bounds:
+            text += f", {NAMES[name]} <= {bound:.6g}"
+        return text
+
+
+def _stable(A, dt):
+    lam = la.eigvals(A)
+    return bool(np.all(np.abs(lam) < 1)) if dt else \
+        bool(np.all(lam.real < 0))
+
+
+def _stein_doubling(A: np.ndarray, Q: np.ndarray,
+                    steps: int = 200) -> np.ndarray:
+    """``P = Σ_k A^k Q A^kᵀ`` (the solution of ``A P Aᵀ − P + Q = 0`` for a
+    Schur-stable ``A``) by Smith's doubling, ``P ← P + A P Aᵀ, A ← A²``:
+    no inverse, so it holds where ``A + I`` is singular to rounding; an
+    overflow (transient growth beyond the floats) gives ``inf``."""
+    P = Q.copy()
+    with np.errstate(over='ignore', invalid='ignore'):
+        for _ in range(steps):
+            step = A @ P @ A.T
+            P = P + step
+            A = A @ A
+            if not np.all(np.isfinite(P)):
+                return np.full_like(P, np.inf)
+            if np.linalg.norm(step) <= 1e-16 * np.linalg.norm(P):
+                break
+    return P
+
+
+def gramian(A: np.ndarray, Q: np.ndarray, dt: float = 0) -> np.ndarray:
+    """``P`` with ``A P + P Aᵀ + Q = 0`` (``A P Aᵀ − P + Q = 0`` when
+    ``dt``) for a stable ``A``."""
+    if not dt:
+        return la.solve_continuous_lyapunov(A, -Q)
+    try:
+        return la.solve_discrete_lyapunov(A, Q)
+    except np.linalg.LinAlgError:
+        # scipy's bilinear route inverts A + I, which a far from normal
+        # A (a fragile campaign design: ‖A‖ 6e8) makes singular to
+        # rounding though its spectrum is far from -1
+        return _stein_doubling(A, Q)
+
+
+def h2_norm(A, B, C, dt: float = 0) -> float:
+    """H2 norm of ``(A, B, C, 0)`` from its controllability Gramian
+    (``inf`` if unstable)."""
+    A, B, C = (np.asarray(M, dtype=float) for M in (A, B, C))
+    if A.shape[0] == 0:
+        return 0.0
+    if not _stable(A, dt):
+        return float('inf')
+    P = gramian(A, B @ B.T, dt)
+    return float(np.sqrt(max(np.trace(C @ P @ C.T), 0.0)))
+
+
+def h2_parts(A: np.ndarray, B: np.ndarray, C: np.ndarray, dt: float = 0,
+             gradient: bool = True):
+    """``(h, dh/dA, dh/dB)`` of the H2 norm ``h`` of a stable
+    ``(A, B, C, 0)`` (the derivatives None without ``gradient``; zero
+    where ``h = 0``, a minimum)."""
+    Q = gramian(A.T, C.T @ C, dt)
+    J = float(np.sum(B * (Q @ B)))
+    h = float(np.sqrt(max(J, 0.0)))
+    if not gradient:
+        return h, None, None
+    if h == 0.0 or not np.isfinite(h):
+        return h, np.zeros_like(A), np.zeros_like(B)
+    P = gramian(A, B @ B.T, dt)
+    dA = Q @ (A @ P if dt else P)
+    return h, dA / h, (Q @ B) / h

@@ -1,0 +1,222 @@
+"""The H2 objective and the mixed H2/H∞ designs (objective=, max_hinf=,
+max_h2=): every number is checked against an independent source —
+python-control's Kalman filters (``ct.lqe``/``ct.dlqe``), its H2 and H∞
+norms (``ct.norm``), a closed-form scalar Riccati solution, finite
+differences — never against the code that produced it."""
+
+import warnings
+
+import numpy as np
+import pytest
+import control as ct
+
+import controlext as cx
+from controlext.exceptions import (ArgumentError, ControlextError,
+                                   ParameterError)
+from controlext.synthesis import ObserverProblem
+from controlext.synthesis.criteria import Criteria, h2_norm
+from controlext.synthesis.objective import Objective
+
+# the README's plant with process noise on both states and sensor noise
+PLANT = ct.ss([[-1, 1], [-1, 0]], [[0], [1]], [[1, 2]], 0)
+BW = np.array([[1.0, 0.0], [0.5, 0.0]])
+DW = np.array([[0.0, 1.0]])
+
+
+def _norms(obs):
+    """H2 and H∞ norms of an observer's error system, by python-control."""
+    sys = ct.ss(obs.A, obs.B, obs.C, obs.D, obs.dt)
+    return float(ct.norm(sys, 2)), float(ct.norm(sys, 'inf'))
+
+
+def _quiet(fn, *args, **kwargs):
+    with warnings.catch_warnings():
+        warnings.simplefilter('ignore', cx.GainWarning)
+        return fn(*args, **kwargs)
+
+
+@pytest.mark.parametrize('dt', [0, 0.2])
+def test_h2_gradient_matches_finite_differences(dt):
+    """The objective's H2 value is ct.norm(·, 2) of the error system and
+    its gradient matches central differences of that value."""
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(3, 3)) - (0 if dt else 3) * np.eye(3)
+    if dt:
+        A *= 0.5 / max(abs(np.linalg.eigvals(A)))
+    prob = ObserverProblem(A, rng.normal(size=(2, 3)),
+                           Bw=rng.normal(size=(3, 2)),
+                           Dw=np.hstack([np.zeros((2, 0)), np.eye(2)]),
+                           dt=dt)
+    obj = Objective(prob, None, criteria=Criteria('h2'))
+    G = 0.05 * rng.normal(size=prob.gain_shape)
+    value, grad = obj(G.ravel())
+    sys = ct.ss(*prob.error_system(G), dt)
+    assert value == pytest.approx(float(ct.norm(sys, 2)), rel=1e-9)
+    step, fd = 1e-6, np.zeros(G.size)
+    for k in range(G.size):
+        e = np.zeros(G.size)
+        e[k] = step
+        up = ct.ss(*prob.error_system(G + e.reshape(G.shape)), dt)
+        down = ct.ss(*prob.error_system(G - e.reshape(G.shape)), dt)
+        fd[k] = (ct.norm(up, 2) - ct.norm(down, 2)) / (2 * step)
+    np.testing.assert_allclose(grad, fd, rtol=1e-5, atol=1e-8)
+
+
+def test_h2_objective_without_region_is_the_kalman_filter():
+    """objective='h2' with no region returns python-control's lqe gain."""
+    obs = cx.hinf_observer(PLANT, Bw=BW, Dw=DW, objective='h2')
+    L, P, _ = ct.lqe(PLANT.A, BW[:, :1], PLANT.C, np.eye(1), np.eye(1))
+    np.testing.assert_allclose(obs.G, L, rtol=1e-8)
+    h2, _ = _norms(obs)
+    assert h2 == pytest.approx(np.sqrt(np.trace(P)), rel=1e-8)
+    assert obs.report.h2 == pytest.approx(h2, rel=1e-8)
+
+
+def test_discrete_h2_objective_is_the_kalman_predictor():
+    plant = ct.c2d(PLANT, 0.1)
+    obs = cx.hinf_observer(plant, Bw=0.1 * BW, Dw=DW, objective='h2')
+    L, P, _ = ct.dlqe(plant.A, 0.1 * BW[:, :1], plant.C, np.eye(1),
+                      np.eye(1))
+    np.testing.assert_allclose(obs.G, L, rtol=1e-7)
+    assert _norms(obs)[0] == pytest.approx(np.sqrt(np.trace(P)), rel=1e-7)
+
+
+def test_scalar_kalman_floor_refuses_a_smaller_max_h2():
+    """x' = -x/2 + w1, y = x + w2: the Kalman covariance solves
+    -P - P^2 + 1 = 0, P = (sqrt 5 - 1)/2; no estimator has a smaller H2
+    norm, so a bound below sqrt(P) is refused before any solve."""
+    plant = ct.ss([[-0.5]], [[0.0]], [[1.0]], 0)
+    kw = dict(Bw=[[1.0, 0.0]], Dw=[[0.0, 1.0]])
+    floor = np.sqrt((np.sqrt(5) - 1) / 2)
+    obs = cx.hinf_observer(plant, objective='h2', **kw)
+    assert _norms(obs)[0] == pytest.approx(floor, rel=1e-9)
+    with pytest.raises(ParameterError, match='least H2 norm'):
+        cx.hinf_observer(plant, decay=1.0, max_h2=0.99 * floor, **kw)
+    # γ∞* = 1/sqrt(1.25) for this plant (floor module's example, by the
+    # Riccati equation with γ: 1 - 1/γ² = 1/1.25)
+    with pytest.raises(ParameterError, match='least H∞ norm'):
+        cx.hinf_observer(plant, objective='h2', max_hinf=0.85, **kw)
+
+
+@pytest.mark.parametrize('copies', [1, 2])
+def test_h2_design_in_a_region_beats_the_hinf_design_on_white_noise(copies):
+    """At decay 1 the H∞-optimal design has H2 norm > 5; the H2 design
+    is within 1 % of the Kalman filter's, which no design beats (ct.lqe),
+    with its poles in the region."""
+    factory = cx.hinf_observer if copies == 1 else cx.coupled_observer
+    obs = factory(PLANT, Bw=BW, Dw=DW, decay=1.0, objective='h2')
+    h2, _ = _norms(obs)
+    _, P, _ = ct.lqe(PLANT.A, BW[:, :1], PLANT.C, np.eye(1), np.eye(1))
+    kalman = np.sqrt(np.trace(P))
+    assert kalman * (1 - 1e-9) <= h2 <= 1.01 * kalman
+    assert max(np.linalg.eigvals(obs.A).real) <= -1 + 1e-6
+    hinf_design = factory(PLANT, Bw=BW, Dw=DW, decay=1.0)
+    assert _norms(hinf_design)[0] > 5 * h2
+
+
+def test_mixed_bounds_hold_and_move_the_objective_the_right_way():
+    """objective='h2' with max_hinf: the bound holds (ct.norm), and a
+    tighter bound never gives a smaller H2 norm."""
+    free = cx.hinf_observer(PLANT, Bw=BW, Dw=DW, decay=1.0, objective='h2')
+    h2_free, hinf_free = _norms(free)
+    lowest = cx.hinf_observer(PLANT, Bw=BW, Dw=DW, decay=1.0)
+    hinf_low = _norms(lowest)[1]
+    previous = h2_free
+    for bound in np.linspace(hinf_free, hinf_low, 5)[1:-1]:
+        obs = cx.hinf_observer(PLANT, Bw=BW, Dw=DW, decay=1.0,
+                               objective='h2', max_hinf=bound)
+        h2, hinf = _norms(obs)
+        assert hinf <= bound * (1 + 1e-6)
+        assert max(np.linalg.eigvals(obs.A).real) <= -1 + 1e-6
+        assert h2 >= previous * (1 - 1e-6)
+        previous = h2
+
+
+def test_max_h2_bounds_an_hinf_design():
+    """objective='hinf' with max_h2: the H2 bound holds and costs γ
+    against the unbounded design (ct.norm)."""
+    free = cx.hinf_observer(PLANT, Bw=BW, Dw=DW, decay=1.0)
+    h2_free, hinf_free = _norms(free)
+    obs = cx.coupled_observer(PLANT, Bw=BW, Dw=DW, decay=1.0, max_h2=1.0)
+    h2, hinf = _norms(obs)
+    assert h2 <= 1.0 * (1 + 1e-6) < h2_free
+    assert hinf >= hinf_free * (1 - 1e-3)
+    assert obs.report.criteria == Criteria('hinf', max_h2=1.0)
+
+
+def test_convex_stage_certifies_both_norms():
+    """refine=False returns the mixed LMI's gain: its H2 norm within the
+    certified level and its H∞ norm within the bound (ct.norm)."""
+    obs = cx.hinf_observer(PLANT, Bw=BW, Dw=DW, decay=1.0, objective='h2',
+                           max_hinf=0.9, refine=False)
+    h2, hinf = _norms(obs)
+    assert obs.report.stage == 'lmi'
+    assert h2 <= obs.report.gamma_bound * (1 + 1e-5)
+    assert hinf <= 0.9 * (1 + 1e-6)
+
+
+def test_discrete_mixed_design_in_a_disk():
+    plant = ct.c2d(PLANT, 0.1)
+    region = cx.Disk(0.9, domain='discrete')
+    obs = cx.hinf_observer(plant, Bw=0.1 * BW, Dw=DW, region=region,
+                           objective='h2', max_hinf=0.9)
+    h2, hinf = _norms(obs)
+    assert hinf <= 0.9 * (1 + 1e-6)
+    assert max(abs(np.linalg.eigvals(obs.A))) <= 0.9 + 1e-6
+    assert obs.report.h2 == pytest.approx(h2, rel=1e-8)
+
+
+def test_gi_observer_h2_objective_keeps_invariance():
+    """A GI design minimising H2 (noise-free part of y: the LMI route)
+    reports its true H2 norm and stays blind to the part of w outside
+    range(C)."""
+    plant = ct.ss([[0.5, 1.0, 0.0], [0.0, -2.0, 1.0], [0.0, 0.0, -1.0]],
+                  [[0.0], [1.0], [0.0]],
+                  [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]], 0)
+    Bw = [[1.0, 0.3], [0.2, 1.0], [0.5, -0.4]]
+    obs = _quiet(cx.gi_observer, plant, Bw, decay=3.0, objective='h2')
+    resp = ct.ss(obs.A, obs.B, obs.C, obs.D)
+    assert obs.report.h2 == pytest.approx(float(ct.norm(resp, 2)),
+                                          rel=1e-6, abs=1e-9)
+    assert max(np.linalg.eigvals(obs.A).real) <= -3 + 1e-6
+    # w along the complement of range(C) = span([1, -1]) does not reach
+    # the error
+    away = np.array([1.0, -1.0]) / np.sqrt(2)
+    for w in (0.0, 0.7, 3.0):
+        assert np.linalg.norm(resp(1j * w) @ away) < 1e-8
+
+
+@pytest.mark.parametrize('kw, error, text', [
+    (dict(objective='H2'), ParameterError, "'hinf', 'h2'"),
+    (dict(objective=2), ArgumentError, 'objective'),
+    (dict(objective='h2', max_hinf=-1.0), ParameterError, 'max_hinf'),
+    (dict(objective='h2', max_hinf='1'), ArgumentError, 'max_hinf'),
+    (dict(max_hinf=1.0), ArgumentError, 'minimises already'),
+    (dict(objective='h2', max_h2=1.0), ArgumentError, 'minimises already'),
+    (dict(objective='h2', max_hinf=1.0, method='riccati'), ArgumentError,
+     'Kalman'),
+    (dict(max_h2=1.0, method='modal'), ArgumentError, 'modal'),
+])
+def test_bad_criteria_are_refused_before_any_solve(kw, error, text,
+                                                   monkeypatch):
+    import cvxpy as cp
+    monkeypatch.setattr(cp.Problem, 'solve', lambda *a, **k: pytest.fail(
+        'a solver ran'))
+    with pytest.raises(error, match=text):
+        cx.hinf_observer(PLANT, Bw=BW, Dw=DW, decay=1.0, **kw)
+    assert issubclass(error, ControlextError)
+
+
+def test_h2_norm_closed_form():
+    # 1/(s+2): ‖·‖₂² = 1/4; discrete 1/(z - 1/2): Σ 4^-k = 4/3
+    assert h2_norm([[-2.0]], [[1.0]], [[1.0]]) == pytest.approx(0.5)
+    assert h2_norm([[0.5]], [[1.0]], [[1.0]], dt=1) == \
+        pytest.approx(np.sqrt(4 / 3))
+
+
+def test_sweep_of_max_hinf_holds_every_bound():
+    noise = dict(Bw=BW, Dw=DW, decay=1.0, objective='h2')
+    s = cx.sweep(PLANT, 'max_hinf', [0.76, 0.85], **noise)
+    assert np.all(s.metric('hinf') <= np.array([0.76, 0.85]) * (1 + 1e-6))
+    # a looser bound never costs white-noise error
+    assert s.metric('h2')[1] <= s.metric('h2')[0] * (1 + 1e-6)
