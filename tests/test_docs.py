@@ -98,4 +98,5 @@ def test_tradeoff_page_has_its_figure(built):
     html = (built / 'tradeoffs.html').read_text()
     figures = re.findall(r'<img[^>]+src="(_images/tradeoffs[^"]+\.png)"',
                          html)
-    assert len(figures) == 1 and 'kalman' in html   # the printed table
+    # the transient figure (with the printed table) and the mixed front
+    assert len(figures) == 2 and 'kalman' in html and 'h2hinfsyn' in html
