@@ -204,17 +204,9 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
         held by refinement and verified; ``'auto'`` (default) bounds it at
         1e6 times the plant's scale and warns when it binds, ``None``
         lifts it (:class:`~controlext.synthesis.SynthesisOptions`).
-    objective : {'hinf', 'h2'}, optional
-        The norm from noise to estimation error that is minimised: the
-        worst-case gain (H∞, default) or the RMS error under unit white
-        noise (H2, what a Kalman filter minimises).
-    max_hinf, max_h2 : float, optional
-        A bound on the norm that is not minimised: ``objective='h2',
-        max_hinf=b`` is the mixed H2/H∞ design (the best white-noise error
-        whose worst-case gain is at most ``b``), ``max_h2=`` the reverse.
-        Held by the convex stage (one Lyapunov matrix for both norms) and
-        by refinement, verified on the result; a bound below what any
-        linear estimator reaches is refused at once.
+    objective, max_hinf, max_h2 : optional
+        The norm minimised and a bound on the other (the mixed H2/H∞
+        design), as for :func:`hinf_observer`.
     options : SynthesisOptions, optional
         Every tunable of the engine (``lmi_max_states``, ``modal_guard``,
         …); the keywords above override it where they differ from their

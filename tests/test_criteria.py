@@ -220,3 +220,22 @@ def test_sweep_of_max_hinf_holds_every_bound():
     assert np.all(s.metric('hinf') <= np.array([0.76, 0.85]) * (1 + 1e-6))
     # a looser bound never costs white-noise error
     assert s.metric('h2')[1] <= s.metric('h2')[0] * (1 + 1e-6)
+
+
+def test_bound_the_mixed_lmi_cannot_certify_is_still_met():
+    """A nearly unobservable mode: the mixed LMI (one Lyapunov matrix for
+    both norms and the region) is infeasible at max_hinf = 1.05 γ of the
+    H∞ design, yet that design meets the bound, so a design exists; the
+    result keeps the bound and the region (ct.norm, poles) and has a
+    smaller H2 norm than the H∞ design."""
+    plant = ct.ss([[-1.0, 0.0], [0.0, 0.5]], [[1.0], [1.0]], [[1.0, 1e-4]],
+                  0)
+    noise = dict(Bw=[[1.0, 0.0], [1.0, 0.0]], Dw=[[0.0, 1.0]], decay=1.0)
+    base = _quiet(cx.hinf_observer, plant, **noise)
+    h2_base, hinf_base = _norms(base)
+    obs = _quiet(cx.hinf_observer, plant, objective='h2',
+                 max_hinf=1.05 * hinf_base, **noise)
+    h2, hinf = _norms(obs)
+    assert hinf <= 1.05 * hinf_base * (1 + 1e-6)
+    assert max(np.linalg.eigvals(obs.A).real) <= -1 + 1e-6
+    assert h2 < h2_base

@@ -108,8 +108,9 @@ class Criteria:
         return text
 
 
-def _stable(A, dt):
-    lam = la.eigvals(A)
+def stable_poles(lam, dt=0) -> bool:
+    """Are the poles ``lam`` inside the stability region?"""
+    lam = np.asarray(lam)
     return bool(np.all(np.abs(lam) < 1)) if dt else \
         bool(np.all(lam.real < 0))
 
@@ -153,7 +154,7 @@ def h2_norm(A, B, C, dt: float = 0) -> float:
     A, B, C = (np.asarray(M, dtype=float) for M in (A, B, C))
     if A.shape[0] == 0:
         return 0.0
-    if not _stable(A, dt):
+    if not stable_poles(la.eigvals(A), dt):
         return float('inf')
     P = gramian(A, B @ B.T, dt)
     return float(np.sqrt(max(np.trace(C @ P @ C.T), 0.0)))

@@ -44,7 +44,7 @@ import math
 import numpy as np
 
 from ..norms import hinfnorm_matrices
-from .criteria import Criteria, h2_parts
+from .criteria import Criteria, h2_parts, stable_poles
 
 __all__ = ['Objective']
 
@@ -179,14 +179,14 @@ class Objective:
 
     def _norms(self, Acl, Bcl, lam, names):
         """``{name: (value, detail)}`` of the norms ``names`` (``inf`` if
-        unstable): the peak frequency for H∞, the derivatives for H2."""
+        unstable): the peak frequency for H∞ (its gradient needs it), None
+        for H2."""
         out = {}
         if 'hinf' in names:
             out['hinf'] = self._hinf(Acl, Bcl, lam)
         if 'h2' in names:
-            stable = bool(np.all(np.abs(lam) < 1)) if self.dt else \
-                bool(np.all(lam.real < 0))
-            out['h2'] = (np.inf, None) if not stable else (
+            out['h2'] = (np.inf, None) if not stable_poles(lam, self.dt) \
+                else (
                 h2_parts(Acl, Bcl, self.Ccl, self.dt)[0], None)
         return out
 

@@ -33,7 +33,8 @@ from .._checks import (check_detectable, check_region_reachable,
                        check_system)
 from .floor import filter_floor
 from .tradeoff import tradeoff_of
-from ..exceptions import GainWarning, ParameterError, VerificationError
+from ..exceptions import (GainWarning, ParameterError, SolverError,
+                          VerificationError)
 from .criteria import NAMES
 from .convex import convex_stage
 from .refine import refine_gain
@@ -291,6 +292,19 @@ def synthesise(problem, region, options, convex=None, check=None,
             "observer of any structure or order can do better, so it was "
             "not refined"))
         return convex.G, best
+    if best is None and criteria.bounds:
+        # the convex stage gave no design within the bounds (one Lyapunov
+        # matrix for both norms and the region is conservative): the
+        # design minimising a bounded norm alone meets its bound whenever
+        # any design does, and is a start inside it
+        for name, _ in criteria.bounds:
+            plain = options.replace(objective=name, max_hinf=None,
+                                    max_h2=None)
+            try:
+                Gb, _ = synthesise(problem, region, plain, bound=bound)
+            except (VerificationError, SolverError):
+                continue
+            starts.append((f'{name} design', Gb))
     if problem.copies > 1:
         single = options if options.method != 'lmi' else \
             options.replace(method='auto')
