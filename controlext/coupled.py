@@ -153,6 +153,8 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
                      max_gain: float | str | None = 'auto',
                      objective: str = 'hinf', max_hinf: float | None = None,
                      max_h2: float | None = None,
+                     settling_time: float | None = None,
+                     gain_tolerance: float | None = None,
                      name: str | None = None, inputs: Names = None,
                      outputs: Names = None,
                      states: Names = None) -> CoupledObserver:
@@ -207,6 +209,9 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     objective, max_hinf, max_h2 : optional
         The norm minimised and a bound on the other (the mixed H2/H∞
         design), as for :func:`hinf_observer`.
+    settling_time, gain_tolerance : float, optional
+        A settling time of the averaged error and a certified tolerance
+        of relative gain errors, as for :func:`hinf_observer`.
     options : SynthesisOptions, optional
         Every tunable of the engine (``lmi_max_states``, ``modal_guard``,
         …); the keywords above override it where they differ from their

@@ -287,6 +287,8 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
                 max_gain: float | str | None = 'auto',
                 objective: str = 'hinf', max_hinf: float | None = None,
                 max_h2: float | None = None,
+                settling_time: float | None = None,
+                gain_tolerance: float | None = None,
                 name: str | None = None, inputs: Names = None,
                 outputs: Names = None, states: Names = None) -> GIObserver:
     """H∞-optimal GI observer (optionally augmented, optionally coupled).
@@ -307,7 +309,7 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
         As for :func:`controlext.coupled_observer`.
     seed, refine_options, executor, options, max_gain, name
         As for :func:`controlext.coupled_observer`.
-    objective, max_hinf, max_h2
+    objective, max_hinf, max_h2, settling_time, gain_tolerance
         As for :func:`controlext.coupled_observer`.
     inputs, outputs, states
         As for :func:`controlext.coupled_observer`.

@@ -176,6 +176,8 @@ def hinf_observer(plant: Plant, decay: float | None = None,
                   max_gain: float | str | None = 'auto',
                   objective: str = 'hinf', max_hinf: float | None = None,
                   max_h2: float | None = None,
+                  settling_time: float | None = None,
+                  gain_tolerance: float | None = None,
                   name: str | None = None, inputs: Names = None,
                   outputs: Names = None,
                   states: Names = None) -> LuenbergerObserver:
@@ -245,6 +247,17 @@ def hinf_observer(plant: Plant, decay: float | None = None,
         Held by the convex stage (one Lyapunov matrix for both norms) and
         by refinement, verified on the result; a bound below what any
         linear estimator reaches is refused at once.
+    settling_time : float, optional
+        The averaged error from the worst unit initial error must be
+        within 2 % of its start from this time on (the report's
+        ``tradeoff.settling_time``): a faster transient for a larger γ.
+    gain_tolerance : float, optional
+        Relative error of every gain entry under which the error poles
+        must stay in the region, certified
+        (:mod:`~controlext.synthesis.limits`; half-plane and disk regions):
+        ``5e-6`` keeps the decay of gains rounded to 6 significant
+        digits.  Both limits are held by refinement and verified on the
+        result.
     options : SynthesisOptions, optional
         Every tunable of the engine (``lmi_max_states``, ``modal_guard``,
         …); the keywords above override it where they differ from their

@@ -143,7 +143,7 @@ def convex_stage(problem, region, options):
     ``stats['fallback']`` records what failed on the way.
     """
     method = options.method
-    criteria = options.criteria
+    criteria = options.criteria.convex     # the limits are not convex
     if problem.copies > 1 and method != 'lmi':
         sub = convex_stage(problem.single(), region, options)
         G = problem.embed(sub.G)
@@ -195,7 +195,7 @@ def convex_stage(problem, region, options):
 def _routes(problem, region, options):
     """The convex routes to try, in order: ``[(name, thunk), ...]``."""
     method = options.method
-    criteria = options.criteria
+    criteria = options.criteria.convex     # the limits are not convex
     riccati_ok = riccati_applies(problem, region, criteria)
     if method == 'riccati' and not riccati_ok:
         raise ArgumentError(
@@ -297,7 +297,7 @@ def _kalman_design(problem):
 def _lmi_design(problem, region, options):
     sol = solve_observer_lmi(problem, region, options.margin,
                              options.solver, options.solver_options,
-                             criteria=options.criteria)
+                             criteria=options.criteria.convex)
     return ConvexResult(G=sol.G, gamma_bound=sol.gamma_bound,
                         gamma_convex=sol.gamma_convex, method='lmi', stage='lmi',
                         solver=sol.stats['solver'], status=sol.status,

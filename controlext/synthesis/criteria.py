@@ -8,11 +8,17 @@ By default a design minimises the H∞ norm from noise to estimation error
   filter minimises;
 * ``max_hinf=`` / ``max_h2=`` — a bound on the other norm: the mixed
   H2/H∞ problem of MATLAB's ``h2hinfsyn`` (the best white-noise error
-  whose worst-case gain stays below a bound, or the reverse).
+  whose worst-case gain stays below a bound, or the reverse);
+* ``settling_time=`` — the averaged error from the worst unit initial
+  error settles within 2 % of its start by this time;
+* ``gain_tolerance=`` — the error poles stay in the region under relative
+  errors of this size in every gain entry (``5e-6`` for gains printed to
+  6 significant digits), certified (:mod:`~controlext.synthesis.limits`).
 
 The same criteria are held by every stage: the convex stage as LMIs with
 one Lyapunov matrix (:mod:`~controlext.synthesis.lmi`, conservative and
-certified), refinement as exact penalties on the true norms
+certified; the two limits are not convex and only refinement holds
+them), refinement as exact penalties on the true norms
 (:mod:`~controlext.synthesis.objective`), and verification on the
 returned design (:func:`~controlext.synthesis.verify.verify_design`).
 
@@ -46,6 +52,9 @@ __all__ = ['Criteria', 'OBJECTIVES', 'h2_norm', 'h2_parts', 'NAMES']
 OBJECTIVES = ('hinf', 'h2')
 #: how a norm is named to a user
 NAMES = {'hinf': 'H∞ norm', 'h2': 'H2 norm'}
+#: how a limit is named to a user
+LIMIT_NAMES = {'settling_time': 'settling within',
+               'gain_tolerance': 'region kept under relative gain errors'}
 
 
 @dataclass(frozen=True)
@@ -59,10 +68,18 @@ class Criteria:
     max_hinf, max_h2 : float or None
         A bound on the norm that is not minimised (``max_hinf`` with
         ``objective='h2'``, ``max_h2`` with ``objective='hinf'``).
+    settling_time : float or None
+        The latest 2 % settling time of the averaged error from the worst
+        unit initial error (in the plant's time units).
+    gain_tolerance : float or None
+        The relative error of every gain entry under which the error poles
+        must stay in the region (in ``(0, 0.1]``).
     """
     objective: str = 'hinf'
     max_hinf: float | None = None
     max_h2: float | None = None
+    settling_time: float | None = None
+    gain_tolerance: float | None = None
 
     def __post_init__(self):
         set_ = lambda name, value: object.__setattr__(self, name, value)
@@ -71,6 +88,12 @@ class Criteria:
         for name in ('max_hinf', 'max_h2'):
             set_(name, check_number(getattr(self, name), name, low=0,
                                     low_open=True, optional=True))
+        set_('settling_time', check_number(
+            self.settling_time, 'settling_time', low=0, low_open=True,
+            optional=True))
+        set_('gain_tolerance', check_number(
+            self.gain_tolerance, 'gain_tolerance', low=0, low_open=True,
+            high=0.1, optional=True))
         own = getattr(self, f'max_{self.objective}')
         if own is not None:
             other = 'h2' if self.objective == 'hinf' else 'hinf'
@@ -93,6 +116,22 @@ class Criteria:
                      if value is not None)
 
     @property
+    def limits(self) -> tuple[tuple[str, float], ...]:
+        """``((name, value), ...)`` of the limits that are not norms
+        (settling time, gain tolerance): refinement holds them, the
+        convex stage does not."""
+        return tuple((name, value) for name, value in
+                     (('settling_time', self.settling_time),
+                      ('gain_tolerance', self.gain_tolerance))
+                     if value is not None)
+
+    @property
+    def convex(self) -> Criteria:
+        """The criteria without their limits: what the convex stage holds."""
+        return Criteria(self.objective, self.max_hinf, self.max_h2) \
+            if self.limits else self
+
+    @property
     def norms(self) -> tuple[str, ...]:
         """Every norm the criteria involve, the objective first."""
         return (self.objective,) + tuple(name for name, _ in self.bounds)
@@ -105,6 +144,8 @@ class Criteria:
         text = f"minimise the {NAMES[self.objective]}"
         for name, bound in self.bounds:
             text += f", {NAMES[name]} <= {bound:.6g}"
+        for name, value in self.limits:
+            text += f", {LIMIT_NAMES[name]} {value:.6g}"
         return text
 
 

@@ -11,7 +11,9 @@ constraint margin (``<= 0`` when every constraint holds): the region
 margins over the eigenvalues of ``Ae − G Ce``; with a gain bound ``κ``,
 ``s (‖W G‖₂ / κ − 1)`` (``W`` diagonal weights giving the gain in the
 user's units, ``s`` the margins' rate scale); with a bound ``b`` on the
-other norm, ``s (‖T_G‖ / b − 1)``.  Its gradient: that of the H∞ norm from
+other norm, ``s (‖T_G‖ / b − 1)``; with a limit of ratio ``r``
+(:mod:`~controlext.synthesis.limits`), ``s φ(r)`` with ``φ`` the limit's
+own increasing transform (``φ(1) = 0``).  Its gradient: that of the H∞ norm from
 the singular vectors at the peak frequency, that of the H2 norm from the
 two Gramians, that of a region margin from the right and left
 eigenvectors of the critical eigenvalue, that of the gain margin from the
@@ -45,6 +47,7 @@ import numpy as np
 
 from ..norms import hinfnorm_matrices
 from .criteria import Criteria, h2_parts, stable_poles
+from .limits import limits_of
 
 __all__ = ['Objective']
 
@@ -99,6 +102,7 @@ class Objective:
         self.primary = self.criteria.objective
         self.norm_bounds = self.criteria.bounds
         self.needed = self.criteria.norms
+        self.limits = limits_of(self.criteria, problem, region)
         self.gain_bound, self.gain_units = gain_bound, gain_units
         self.gain_weights = np.ones(problem.gain_shape[0]) \
             if gain_weights is None else np.asarray(gain_weights, float)
@@ -125,7 +129,7 @@ class Objective:
     def constrained(self):
         """Is there a constraint (a region, a gain or a norm bound)?"""
         return self.region is not None or self.gain_bound is not None or \
-            bool(self.norm_bounds)
+            bool(self.norm_bounds) or bool(self.limits)
 
     def _point(self, G):
         """Error matrix, its eigendecomposition and the worst margin."""
@@ -151,6 +155,8 @@ class Objective:
 
     def _margin_grad(self, lam, V, crit):
         """Gradient of the critical margin with respect to G."""
+        if crit[0] == 'limit':
+            return self.gain_units * crit[1] * crit[2]()
         if crit[0] == 'norm':
             _, name, Acl, Bcl, norms = crit
             bound = dict(self.norm_bounds)[name]
@@ -198,8 +204,9 @@ class Objective:
         # Acl = Ae − G Ce, Bcl = G Dwe − Bwe
         return dB @ self.Dwe.T - dA @ self.Ce.T
 
-    def _bounded(self, norms, worst, crit, Acl, Bcl):
-        """The worst margin and its source, with the norm bounds."""
+    def _bounded(self, norms, worst, crit, Acl, Bcl, G):
+        """The worst margin and its source, with the norm bounds and the
+        limits (:mod:`~controlext.synthesis.limits`)."""
         for name, bound in self.norm_bounds:
             value = norms[name][0]
             if not np.isfinite(value):
@@ -207,6 +214,17 @@ class Objective:
             m = self.gain_units * (value / bound - 1.0)
             if m > worst:
                 worst, crit = m, ('norm', name, Acl, Bcl, norms)
+        for limit in self.limits:
+            ratio, gradient = limit.ratio(G, Acl, self.Ce)
+            if not np.isfinite(ratio):
+                # a pole off an edge: the limit's margin goes on from its
+                # value at the edge, and the region's margin leads back
+                worst = self.gain_units * limit.outside + max(worst, 0.0)
+                continue
+            g, slope = limit.margin(ratio)
+            m = self.gain_units * g
+            if m > worst:
+                worst, crit = m, ('limit', slope, gradient)
         return worst, crit
 
     def _norm_grad(self, Acl, Bcl, w):
@@ -250,11 +268,11 @@ class Objective:
         if not self.constrained:
             return -np.inf, np.zeros_like(G)
         Acl, lam, V, m, crit = self._point(G)
-        if self.norm_bounds:
+        if self.norm_bounds or self.limits:
             Bcl = G @ self.Dwe - self.Bwe
             norms = self._norms(Acl, Bcl, lam,
                                 [name for name, _ in self.norm_bounds])
-            m, crit = self._bounded(norms, m, crit, Acl, Bcl)
+            m, crit = self._bounded(norms, m, crit, Acl, Bcl, G)
         if crit is None:
             return m, np.zeros_like(G)
         return m, self._margin_grad(lam, V, crit)
@@ -296,7 +314,7 @@ class Objective:
                 if bound > above and (m > 0 or peak >= self.best[0]):
                     return bound, None
             norms = self._norms(Acl, Bcl, lam, self.needed)
-            m, crit = self._bounded(norms, m, crit, Acl, Bcl)
+            m, crit = self._bounded(norms, m, crit, Acl, Bcl, G)
             self._last = (key, G.copy(), Acl, Bcl, lam, V, m, crit, norms,
                           sq)
             w = norms['hinf'][1] if 'hinf' in norms else np.nan

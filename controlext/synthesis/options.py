@@ -222,6 +222,11 @@ class SynthesisOptions:
         A bound on the norm that is not minimised (the mixed H2/H∞
         problem; :class:`~controlext.synthesis.criteria.Criteria`), held
         by every stage and verified on the result.
+    settling_time, gain_tolerance : float or None
+        Limits held by refinement and verified on the result: the latest
+        2 % settling time of the averaged error, and the relative gain
+        error under which the error poles must stay in the region
+        (:mod:`~controlext.synthesis.limits`).
     """
     margin: float = 1.02
     method: str = 'auto'
@@ -233,10 +238,13 @@ class SynthesisOptions:
     lmi_max_states: int = 40
     modal_guard: float = 0.05
     refine_options: RefineOptions = field(default_factory=RefineOptions)
-    max_gain: float | str | None = 'auto'
+    # the fields of Criteria, which checks them
     objective: str = 'hinf'
     max_hinf: float | None = None
     max_h2: float | None = None
+    settling_time: float | None = None
+    gain_tolerance: float | None = None
+    max_gain: float | str | None = 'auto'
 
     def __post_init__(self):
         set_ = lambda name, value: object.__setattr__(self, name, value)
@@ -263,14 +271,15 @@ class SynthesisOptions:
                                      f"{self.max_gain!r}")
             set_('max_gain', check_number(self.max_gain, 'max_gain',
                                           low=0, low_open=True))
-        criteria = Criteria(self.objective, self.max_hinf, self.max_h2)
-        set_('max_hinf', criteria.max_hinf)
-        set_('max_h2', criteria.max_h2)
+        criteria = self.criteria
+        for item in fields(Criteria):
+            set_(item.name, getattr(criteria, item.name))
 
     @property
     def criteria(self) -> Criteria:
-        """The norm minimised and the norm bounded."""
-        return Criteria(self.objective, self.max_hinf, self.max_h2)
+        """The norm minimised, the norm bounded and the limits."""
+        return Criteria(**{item.name: getattr(self, item.name)
+                           for item in fields(Criteria)})
 
     def replace(self, **changes: Any) -> SynthesisOptions:
         """A copy with some fields changed (checked again)."""

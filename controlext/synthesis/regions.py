@@ -43,8 +43,10 @@ class Region:
     """An intersection of LMI regions (base class).
 
     Subclasses define ``_parts``: a list of ``(L, M, margin, grad,
-    boundary)`` with ``margin(λ) -> float`` (``<= 0`` inside), ``grad(λ) ->
-    (dg/dRe, dg/dIm)`` and ``boundary(extent, num) -> [curves]``.
+    boundary, edge)`` with ``margin(λ) -> float`` (``<= 0`` inside),
+    ``grad(λ) -> (dg/dRe, dg/dIm)``, ``boundary(extent, num) -> [curves]``
+    and ``edge`` the part's boundary as a map of a stability boundary
+    (:meth:`edges`), or None.
     """
 
     #: 'continuous', 'discrete' or 'any': the time domain the region fits
@@ -75,6 +77,29 @@ class Region:
         """Characteristic matrices ``[(L, M), ...]`` of each part."""
         return [(np.atleast_2d(part[0]), np.atleast_2d(part[1]))
                 for part in self._parts]
+
+    def edges(self) -> list[tuple[str, float, float]]:
+        """Each part's boundary as an affine image of a stability boundary:
+        ``('plane', a, 1)`` for the line ``Re s = a`` (the imaginary axis
+        shifted by ``a``) and ``('circle', c, r)`` for ``|z − c| = r``.
+        The largest resolvent norm on a boundary is then an H∞ norm of a
+        shifted (or shifted and scaled) system
+        (:mod:`~controlext.synthesis.limits`).
+
+        Raises
+        ------
+        ArgumentError
+            For a part whose boundary is no such image (a sector's rays).
+        """
+        out = []
+        for part in self._parts:
+            if part[5] is None:
+                raise ArgumentError(
+                    f"{self} has a part whose boundary is not a line "
+                    "Re s = a or a circle; a bound along it (gain_"
+                    "tolerance=) is held for half-planes and disks only")
+            out.append(part[5])
+        return out
 
     def margins(self, eigs: ArrayLike) -> Array:
         """Array ``(len(eigs), parts)`` of ``g(λ)``; ``<= 0`` inside."""
@@ -202,7 +227,7 @@ class HalfPlane(Region):
         self.decay = decay
         super().__init__(
             [(2 * decay, 1.0, partial(_half_margin, decay), _half_grad,
-              partial(_half_boundary, decay))],
+              partial(_half_boundary, decay), ('plane', -decay, 1.0))],
             f"HalfPlane(decay={decay:g})")
 
 
@@ -234,7 +259,8 @@ class Disk(Region):
               np.array([[0.0, 1.0], [0.0, 0.0]]),
               partial(_disk_margin, radius, center),
               partial(_disk_grad, center),
-              partial(_disk_boundary, radius, center))],
+              partial(_disk_boundary, radius, center),
+              ('circle', center, radius))],
             f"Disk(radius={radius:g}, center={center:g})")
 
 
@@ -262,7 +288,7 @@ class Sector(Region):
         super().__init__(
             [(np.zeros((2, 2)), np.array([[s, c], [-c, s]]),
               partial(_sector_margin, s, c), partial(_sector_grad, s, c),
-              partial(_sector_boundary, th))],
+              partial(_sector_boundary, th), None)],
             f"Sector(damping={damping:g})")
 
 

@@ -30,6 +30,7 @@ import control as ct
 from ..exceptions import VerificationError
 from ..norms import hinfnorm
 from .criteria import NAMES, Criteria, h2_norm
+from .limits import limits_of
 
 if TYPE_CHECKING:
     from .regions import Region
@@ -148,7 +149,8 @@ class DesignReport:
                          if self.gamma_convex is not None and
                          np.isfinite(self.gamma_convex) else
                          f"convex stage: certified   {self.gamma_bound:.6g}")
-        if self.criteria is not None and not self.criteria.default:
+        if self.criteria is not None and (not self.criteria.default or
+                                          self.criteria.limits):
             lines.append(f"criteria                  {self.criteria}")
         lines.append(f"gain from                 {self.stage} ({self.method}"
                      f", {self.time:.3g} s)")
@@ -175,7 +177,9 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
     is unstable, a pole is outside ``region``, the true value of the
     minimised norm (``criteria``, default H∞) exceeds ``gamma_bound``
     beyond :data:`BOUND_RTOL`, or a bounded norm exceeds its bound beyond
-    :data:`NORM_RTOL`.  ``convex`` (a
+    :data:`NORM_RTOL`, or a limit (settling time, gain tolerance;
+    :mod:`~controlext.synthesis.limits`) is missed beyond it; the limits'
+    ratios go to ``stats['limits']``.  ``convex`` (a
     :class:`~controlext.synthesis.convex.ConvexResult`) fills in the
     method, bound, γ*, solver, status and statistics of the convex stage.
     """
@@ -232,5 +236,13 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
             raise VerificationError(
                 f"the {method} design's {NAMES[name]} {value:.6g} exceeds "
                 f"max_{name} = {bound:.6g}")
+    ratios = {}
+    for limit in limits_of(criteria, problem, region):
+        ratios[limit.name] = ratio = limit.verify(problem, G, region)
+        if not ratio <= 1 + NORM_RTOL:
+            raise VerificationError(f"the {method} design "
+                                    f"{limit.explain(ratio)}")
+    if ratios:
+        report.stats = dict(report.stats, limits=ratios)
     return report
 
