@@ -88,7 +88,9 @@ def test_bound_in_the_plants_units():
     free = cx.hinf_observer(plant, decay=2.0, max_gain=None)
     bound = 0.1 * np.linalg.norm(free.L, 2)
     obs = cx.hinf_observer(plant, decay=2.0, max_gain=bound)
-    assert np.linalg.norm(obs.L, 2) == pytest.approx(bound, rel=1e-6)
+    # held (to 1e-6) and at the bound (the optimum presses on it)
+    assert np.linalg.norm(obs.L, 2) <= bound * (1 + 1e-6)
+    assert np.linalg.norm(obs.L, 2) == pytest.approx(bound, rel=1e-4)
     assert obs.decay >= 2.0 - 1e-6
     assert obs.hinf <= 1.01 * free.hinf
 
