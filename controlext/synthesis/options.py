@@ -61,6 +61,8 @@ _REFINE_CHECKS = {
     'second_round': _int(0),
     'second_round_keep': dict(low=1),
     'peaks': _int(0),
+    'placed_states': _int(0),
+    'placed_starts': _int(0),
 }
 
 
@@ -119,6 +121,11 @@ class RefineOptions:
         it (and the given starts) are polished.
     peaks : int
         Recent peak frequencies the line search's lower bound looks at.
+    placed_states, placed_starts : int
+        On error systems of at most ``placed_states`` states whose best
+        design has two or more poles on the region's edge, the
+        ``placed_starts`` best results are polished again with the poles
+        as variables (:mod:`~controlext.synthesis.placed`).
     """
     random_starts: int | None = None
     screen_iterations: int = 25
@@ -141,6 +148,8 @@ class RefineOptions:
     second_round: int = 60
     second_round_keep: float = 1.05
     peaks: int = 4
+    placed_states: int = 12
+    placed_starts: int = 1
 
     def __post_init__(self):
         for name, rule in _REFINE_CHECKS.items():

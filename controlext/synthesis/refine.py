@@ -44,6 +44,7 @@ from .bfgs import bfgs
 from ..exceptions import VerificationError
 from .objective import Objective
 from .options import RefineOptions
+from .placed import placed_polish
 from .verify import REGION_TOL
 
 try:
@@ -291,6 +292,17 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
     return [run['result'] for run in runs], points
 
 
+def _clustered(obj, G, tol=1e-3):
+    """Has ``G`` three or more error poles within ``tol`` (relative) of
+    the region's edge, where region margins stop being Lipschitz?  (A
+    pair is not enough to stall BFGS: the two-copy optima of the paper are
+    reached without this.)"""
+    lam = np.linalg.eigvals(obj.Ae - G @ obj.Ce)
+    scale = max(1.0, float(np.max(np.abs(lam))))
+    near = obj.region.margins(lam).max(axis=1) >= -tol * scale
+    return int(np.count_nonzero(near)) >= 3
+
+
 def _rate_scale(problem, G):
     """Rate of the slowest error mode of ``G`` (the one a region
     constraint binds) in the units of region margins: the smallest
@@ -462,6 +474,14 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
             f"{region if region is not None else 'the stability region'}"
             f"{bound}")
     results.sort(key=lambda item: item[0])
+    if region is not None and problem.Ae.shape[0] <= opts.placed_states \
+            and _clustered(obj, results[0][2]):
+        for gamma, label, G in results[:opts.placed_starts]:
+            out = placed_polish(obj, region, G, seed)
+            if out is not None and out[0] < gamma:
+                results.append((out[0], f'{label}, poles as variables',
+                                out[1]))
+        results.sort(key=lambda item: item[0])
     gamma, label, G = results[0]
     return RefineResult(G=G, gamma=float(gamma), start=label,
                         starts=[(lb, float(g)) for g, lb, _ in results],
