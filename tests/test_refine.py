@@ -152,7 +152,7 @@ def _scripted_polish(monkeypatch, scripts, restarts, floor=None,
     segments = []
 
     def step(args):
-        obj, run, maxiter, restarts, escalations = args
+        obj, run, maxiter, restarts, escalations = args[:5]
         run = dict(run, points=1)
         if run['stop']:
             run['result'] = (run['value'], run['x'])

@@ -53,6 +53,9 @@ __all__ = ['Objective']
 
 _ONE = np.ones(1)
 
+#: the tolerance of :meth:`Objective.norm` (that of verification)
+EXACT = 1e-10
+
 
 class Objective:
     """Penalised H∞ objective of a problem and region, with gradient.
@@ -80,6 +83,9 @@ class Objective:
         margins.
     criteria : Criteria, optional
         The norm minimised and the norm bounded (default: minimise H∞).
+    norm_tol : float, optional
+        Relative tolerance of the H∞ norms of the search (``ab13dd``'s
+        ``tol``); :meth:`norm` always computes to 1e-10.
 
     Calling the objective with a flat gain ``x`` returns ``(f, ∇f)``
     (``(f, None)`` with ``grad=False``); outside the stability region
@@ -96,7 +102,7 @@ class Objective:
 
     def __init__(self, problem, region, rho=0.0, delta=0.0, tikhonov=0.0,
                  peaks=4, gain_bound=None, gain_weights=None, gain_units=1.0,
-                 criteria=None):
+                 criteria=None, norm_tol=1e-10):
         self.prob, self.region = problem, region
         self.criteria = Criteria() if criteria is None else criteria
         self.primary = self.criteria.objective
@@ -107,6 +113,7 @@ class Objective:
         self.gain_weights = np.ones(problem.gain_shape[0]) \
             if gain_weights is None else np.asarray(gain_weights, float)
         self.peaks = peaks
+        self.norm_tol = norm_tol
         self.shape = problem.gain_shape
         self.rho, self.delta, self.tikhonov = rho, delta, tikhonov
         self.dt = problem.dt
@@ -178,18 +185,20 @@ class Objective:
         dre, dim = self.region.margin_gradients(lam[i:i + 1])[0, j]
         return dre * dlam.real + dim * dlam.imag
 
-    def _hinf(self, Acl, Bcl, lam):
-        """True H∞ norm and peak frequency (``inf`` if unstable)."""
+    def _hinf(self, Acl, Bcl, lam, tol=None):
+        """True H∞ norm and peak frequency (``inf`` if unstable), to the
+        relative tolerance ``tol`` (default the search's ``norm_tol``)."""
         return hinfnorm_matrices(Acl, Bcl, self.Ccl, self.Dcl, self.dt,
+                                 tol=self.norm_tol if tol is None else tol,
                                  poles=lam)
 
-    def _norms(self, Acl, Bcl, lam, names):
+    def _norms(self, Acl, Bcl, lam, names, tol=None):
         """``{name: (value, detail)}`` of the norms ``names`` (``inf`` if
         unstable): the peak frequency for H∞ (its gradient needs it), None
         for H2."""
         out = {}
         if 'hinf' in names:
-            out['hinf'] = self._hinf(Acl, Bcl, lam)
+            out['hinf'] = self._hinf(Acl, Bcl, lam, tol)
         if 'h2' in names:
             out['h2'] = (np.inf, None) if not stable_poles(lam, self.dt) \
                 else (
@@ -284,7 +293,7 @@ class Objective:
         Acl = self.Ae - G @ self.Ce
         return self._norms(Acl, G @ self.Dwe - self.Bwe,
                            np.linalg.eigvals(Acl),
-                           (self.primary,))[self.primary][0]
+                           (self.primary,), tol=EXACT)[self.primary][0]
 
     def __call__(self, x, grad=True, above=None):
         # the line search asks again for the point it has just accepted:

@@ -63,6 +63,8 @@ _REFINE_CHECKS = {
     'peaks': _int(0),
     'placed_states': _int(0),
     'placed_starts': _int(0),
+    'polish_tol': dict(low=0, low_open=True),
+    'norm_tol': dict(low=0, low_open=True, high=1e-3),
 }
 
 
@@ -111,6 +113,13 @@ class RefineOptions:
     floor_tol : float
         Refinement stops once a point inside the region is within this
         (relative) of the unconstrained filter level, which no gain beats.
+    polish_tol : float
+        A polishing run is converged when a segment gains less than this
+        (relative); within a segment BFGS stops after 30 steps that
+        together gained less than a hundredth of it.
+    norm_tol : float
+        Relative tolerance of the H∞ norms the search evaluates (slycot's
+        ``ab13dd``); the result's norm is computed to 1e-10.
     push : int
         BFGS steps the feasibility push of a start outside the region
         may take before the start is dropped.
@@ -143,6 +152,8 @@ class RefineOptions:
     race_reach: float = 1.0
     race_tie: float = 1e-3
     floor_tol: float = 1e-3
+    polish_tol: float = 1e-7
+    norm_tol: float = 1e-10
     push: int = 200
     costly_states: int = 32
     second_round: int = 60

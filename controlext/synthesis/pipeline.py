@@ -383,7 +383,8 @@ def synthesise(problem, region, options, convex=None, check=None,
         candidates = []
     else:
         stats['refine'] = dict(start=res.start, starts=res.starts,
-                               evaluations=res.evaluations, time=res.time)
+                               evaluations=res.evaluations, time=res.time,
+                               phases=res.phases)
         candidates = [(res.G, 'refined')]
     candidates += [(G, label) for label, G in starts[1:]]
     method = f'{convex.method}+refine'

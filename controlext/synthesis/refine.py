@@ -72,6 +72,11 @@ class RefineResult:
         Number of objective evaluations.
     time : float
         Wall-clock time in seconds.
+    phases : dict
+        Wall-clock seconds of each phase: ``screen`` (the feasibility
+        pushes and short runs of every start), ``polish`` (the long runs
+        of the best) and ``placed`` (the pole-cluster polish, where it
+        ran).
     """
     G: np.ndarray
     gamma: float
@@ -79,6 +84,7 @@ class RefineResult:
     starts: list = field(default_factory=list)
     evaluations: int = 0
     time: float = 0.0
+    phases: dict = field(default_factory=dict)
 
 
 def _make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7)):
@@ -204,7 +210,7 @@ def _polish_step(args):
     to the next; a run that is over (or told to ``stop``) is pushed
     strictly inside the region and gets its ``result``.
     """
-    obj, run, maxiter, restarts, escalations = args
+    obj, run, maxiter, restarts, escalations, tol = args
     run = dict(run)
     before = obj.count
     base = obj.rho
@@ -216,9 +222,9 @@ def _polish_step(args):
             if run['fx'] is None:               # an escalation starts
                 run['fx'] = obj(x)[0]
             fx = run['fx']
-            x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=1e-9)
+            x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=tol / 100)
             run.update(x=x, value=fnew, fx=fnew, restart=run['restart'] + 1)
-            if not fnew < fx - 1e-7 * abs(fx) or run['restart'] > restarts:
+            if not fnew < fx - tol * abs(fx) or run['restart'] > restarts:
                 if not obj.constrained or \
                         run['escalation'] >= escalations \
                         or obj.margin(x.reshape(obj.shape))[0] <= 0:
@@ -260,7 +266,8 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
         if not going:
             break
         for k, run in zip(going, _map(executor, _polish_step, [
-                (obj, runs[k], maxiter, restarts, opts.escalations)
+                (obj, runs[k], maxiter, restarts, opts.escalations,
+                 opts.polish_tol)
                 for k in going])):
             before = runs[k]['value']
             run['gain'] = (before - run['value']) / abs(run['value']) \
@@ -417,12 +424,15 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
     reg = opts.tikhonov * max(g0, 1e-3) / max(1.0, float(np.sum(G1 * G1)))
     obj = Objective(problem, region, rho, opts.delta, reg, opts.peaks,
                     gain_bound=gain_bound, gain_weights=gain_weights,
-                    gain_units=_rate_scale(problem, G1), criteria=criteria)
+                    gain_units=_rate_scale(problem, G1), criteria=criteria,
+                    norm_tol=opts.norm_tol)
 
     # random starts of large gains are often far outside the region: give
     # the feasibility push fewer steps there (each costs an eigen-
     # decomposition; at n = 60 four failed pushes took 13 s with 200)
     push = 20 if large else opts.push
+    phases = {}
+    clock = time.perf_counter()
     runs = list(_map(executor, _screen, [
         (obj, G, opts.delta, opts.screen_iterations, push)
         for _, G in starts]))
@@ -454,6 +464,8 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         batches[0] = [item for item in ahead
                       if item[0] <= opts.second_round_keep * ahead[0][0]
                       or item[1] in labels]
+    phases['screen'] = time.perf_counter() - clock
+    clock = time.perf_counter()
     # polish the best screened starts; should every one of them fail the
     # final feasibility push (seen on ill-conditioned plants), go on down
     # the list rather than give up
@@ -474,6 +486,8 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
             f"{region if region is not None else 'the stability region'}"
             f"{bound}")
     results.sort(key=lambda item: item[0])
+    phases['polish'] = time.perf_counter() - clock
+    clock = time.perf_counter()
     if region is not None and problem.Ae.shape[0] <= opts.placed_states \
             and _clustered(obj, results[0][2]):
         for gamma, label, G in results[:opts.placed_starts]:
@@ -482,8 +496,9 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
                 results.append((out[0], f'{label}, poles as variables',
                                 out[1]))
         results.sort(key=lambda item: item[0])
+        phases['placed'] = time.perf_counter() - clock
     gamma, label, G = results[0]
     return RefineResult(G=G, gamma=float(gamma), start=label,
                         starts=[(lb, float(g)) for g, lb, _ in results],
                         evaluations=evaluations,
-                        time=time.perf_counter() - t0)
+                        time=time.perf_counter() - t0, phases=phases)
