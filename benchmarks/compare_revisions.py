@@ -9,12 +9,17 @@ called, with arguments every revision accepts.
     python benchmarks/compare_revisions.py --baseline HEAD~1
     python benchmarks/compare_revisions.py --baseline HEAD~1 --cases paper
     python benchmarks/compare_revisions.py --baseline 65edc1d --cases public
+    python benchmarks/compare_revisions.py --baseline 65edc1d --cases large
 
 The ``public`` group designs ``hinf_observer`` and ``coupled_observer``
 at decay 0.5 on every public plant of 4-10 states of
 ``benchmarks/plants.py`` (input disturbances and sensor noise 0.1) and
 prints, for each factory, the median and the largest time on both
 revisions (the speed targets: medians of 1 s and 2 s, none above 5 s).
+The ``large`` group designs the 40-state beam of
+``examples/flexible_beam.py`` (Luenberger and pair, decay 0.5; targets 15
+s and 30 s) and a 60-state pair of each plant family of
+``benchmarks/synthesis_scaling.py`` (decay 1; target 60 s).
 """
 
 import argparse
@@ -47,6 +52,14 @@ CASES = {
     },
 }
 
+CASES['large'] = {
+    'beam hinf': "cx.hinf_observer(beam()[0], decay=0.5, Cz=beam()[1])",
+    'beam pair': "cx.coupled_observer(beam()[0], decay=0.5, Cz=beam()[1])",
+    'n=60 mixed pair': "cx.coupled_observer(scaling(60), decay=1.0)",
+    'n=60 fast pair': "cx.coupled_observer(scaling(60, family='fast'), "
+                      "decay=1.0)",
+}
+
 sys.path.insert(0, str(ROOT / 'benchmarks'))
 from plants import PUBLIC  # noqa: E402
 
@@ -63,7 +76,8 @@ import numpy as np
 import control as ct
 import controlext as cx
 sys.path.insert(0, sys.argv[2])
-from plants import PUBLIC
+from plants import PUBLIC, beam
+from synthesis_scaling import plant as scaling
 def noise(plant):
     from plants import noise_model
     Bw, Dw = noise_model(plant)

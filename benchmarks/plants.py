@@ -29,6 +29,9 @@ noise model the benchmarks use: a disturbance entering with the inputs
   an Active Suspension" example (body 300 kg, wheel 60 kg, 16 kN/m and
   1 kN·s/m suspension, 190 kN/m tyre; road and actuator force in kN as
   inputs), body travel and suspension deflection measured;
+* ``beam`` (:func:`beam`, not in ``PUBLIC``: 40 states) — the first 20
+  bending modes of a pinned-pinned beam, 2 % damping, two displacement
+  sensors, the modal displacements estimated (``examples/flexible_beam.py``);
 * ``mass chain`` — four unit masses in a chain of unit springs and light
   dampers (0.02 N·s/m), the first tied to a wall, the force on the first mass, the positions of
   the first and the last measured: 8 states, four lightly damped modes.
@@ -131,3 +134,18 @@ def noise_model(plant):
     Bw = np.hstack([plant.B, np.zeros((n, p))])
     Dw = np.hstack([np.zeros((p, m)), 0.1 * np.eye(p)])
     return Bw, Dw
+
+
+def beam(modes=20, zeta=0.02):
+    """``(plant, Cz)`` of ``examples/flexible_beam.py``: mode ``k`` at
+    ``k²`` rad/s in the balanced modal form, sensors at 30 % and 70 % of
+    the span, ``Cz`` picking the modal displacements."""
+    A = np.zeros((2 * modes, 2 * modes))
+    C = np.zeros((2, 2 * modes))
+    for k in range(1, modes + 1):
+        w, i = float(k**2), 2 * (k - 1)
+        A[i:i + 2, i:i + 2] = [[0.0, w], [-w, -2 * zeta * w]]
+        C[:, i] = np.sin(k * np.pi * 0.3), np.sin(k * np.pi * 0.7)
+    Cz = np.zeros((modes, 2 * modes))
+    Cz[np.arange(modes), 2 * np.arange(modes)] = 1.0
+    return ct.ss(A, np.zeros((2 * modes, 1)), C, 0), Cz

@@ -132,13 +132,15 @@ class RefineOptions:
         Recent peak frequencies the line search's lower bound looks at.
     placed_states, placed_starts : int
         On error systems of at most ``placed_states`` states whose best
-        design has two or more poles on the region's edge, the
-        ``placed_starts`` best results are polished again with the poles
-        as variables (:mod:`~controlext.synthesis.placed`).
+        design has three or more poles on the region's edge, the
+        ``placed_starts`` best results whose pole map is regular (not the
+        Luenberger-equivalent start, whose identical copies make it
+        singular) are polished again with the poles as variables
+        (:mod:`~controlext.synthesis.placed`).
     """
     random_starts: int | None = None
     screen_iterations: int = 25
-    polish: int = 6
+    polish: int = 3
     maxiter: int | None = None
     restarts: int | None = None
     delta: float = 1e-7

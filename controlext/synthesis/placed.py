@@ -275,7 +275,7 @@ def placed_polish(obj, region, G0, seed=0, iterations=1500):
                 if np.isfinite(gamma) and (best is None or gamma < best[0]):
                     best = (gamma, G)
                 break
-            shift = max(2 * shift, 2 * excess / pmap.radius, 1e-4)
+            shift = max(2 * shift, excess / pmap.radius, 1e-4)
             if pmap.kind == 'circle' and shift >= 0.5:
                 break
     return best

@@ -490,9 +490,17 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
     clock = time.perf_counter()
     if region is not None and problem.Ae.shape[0] <= opts.placed_states \
             and _clustered(obj, results[0][2]):
-        for gamma, label, G in results[:opts.placed_starts]:
+        # the best results whose pole map is regular (that of the
+        # Luenberger-equivalent start, identical copies, is singular)
+        tried = 0
+        for gamma, label, G in list(results):
+            if tried >= opts.placed_starts:
+                break
             out = placed_polish(obj, region, G, seed)
-            if out is not None and out[0] < gamma:
+            if out is None:
+                continue
+            tried += 1
+            if out[0] < gamma:
                 results.append((out[0], f'{label}, poles as variables',
                                 out[1]))
         results.sort(key=lambda item: item[0])
