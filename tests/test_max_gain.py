@@ -77,17 +77,20 @@ def test_every_kind_holds_the_bound(make):
     assert obs.hinf >= free.hinf * (1 - 1e-3)
 
 
-def test_bound_in_the_plants_units():
+@pytest.mark.parametrize('seed', [0, 1])
+def test_bound_in_the_plants_units(seed):
     """The bound is on the gain in the plant's own units, also where the
     synthesis runs on a rescaled realisation: the cart–pendulum with its
-    positions in km and its angles in hundredths of a radian."""
+    positions in km and its angles in hundredths of a radian.  (Seed 1
+    was refused while seed 0 showed a design exists: the convex design,
+    2.3x over the bound, was the only start.)"""
     P = AXIS['cart-pendulum']
     T = np.diag([1e-3, 1e-3, 1e2, 1e2])
     plant = ct.ss(T @ P.A @ np.linalg.inv(T), T @ P.B,
                   P.C @ np.linalg.inv(T), 0)
     free = cx.hinf_observer(plant, decay=2.0, max_gain=None)
     bound = 0.1 * np.linalg.norm(free.L, 2)
-    obs = cx.hinf_observer(plant, decay=2.0, max_gain=bound)
+    obs = cx.hinf_observer(plant, decay=2.0, max_gain=bound, seed=seed)
     # held (to 1e-6) and at the bound (the optimum presses on it)
     assert np.linalg.norm(obs.L, 2) <= bound * (1 + 1e-6)
     assert np.linalg.norm(obs.L, 2) == pytest.approx(bound, rel=1e-4)

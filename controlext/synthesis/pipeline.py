@@ -334,6 +334,22 @@ def synthesise(problem, region, options, convex=None, check=None,
             pass
         else:
             starts.append((f'gain_tolerance={LADDER * tolerance:.3g}', Gt))
+    if bound is not None and not within and \
+            _bounded_norm(bound, convex.G) > GAIN_LADDER * bound[0]:
+        # far above the bound, the convex design is a poor start for it:
+        # the design within GAIN_LADDER times the bound is a nearer one
+        # (cart-pendulum in mixed units at 0.1x the free gain: seeds 1
+        # and 2 refused without it)
+        # (a geometric ladder: the square root of the ratio per step)
+        ratio = _bounded_norm(bound, convex.G) / bound[0]
+        looser = (max(GAIN_LADDER, np.sqrt(ratio)) * bound[0], bound[1])
+        try:
+            Gl, _ = synthesise(problem, region, options, convex=convex,
+                               bound=looser, floor=floor)
+        except (VerificationError, SolverError):
+            pass
+        else:
+            starts.append((f'max_gain={looser[0]:.3g}', Gl))
     if problem.copies > 1:
         single = options if options.method != 'lmi' else \
             options.replace(method='auto')
@@ -433,6 +449,9 @@ _no_floor = object()
 #: a gain tolerance starts from the design of LADDER times it, up to
 #: LADDER_TOP
 LADDER, LADDER_TOP = 10.0, 1e-2
+#: a gain bound far below the convex design's gain starts from the design
+#: within this many times the bound
+GAIN_LADDER = 1.5
 
 
 def _equal(gamma, problem):
