@@ -299,11 +299,14 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
     return [run['result'] for run in runs], points
 
 
-def _clustered(obj, G, tol=1e-3):
-    """Has ``G`` three or more error poles within ``tol`` (relative) of
-    the region's edge, where region margins stop being Lipschitz?  (A
-    pair is not enough to stall BFGS: the two-copy optima of the paper are
-    reached without this.)"""
+def _clustered(obj, G, tol=1e-2):
+    """Has ``G`` three or more error poles within ``tol`` (relative to
+    the fastest) of the region's edge, where region margins stop being
+    Lipschitz?  (A pair is not enough to stall BFGS: the two-copy optima
+    of the paper are reached without this.  BFGS may stall a little
+    short of the cluster: scalar N = 5, seed 3, with four poles 0 to
+    0.016 from the edge, 1.295x the best filter, 1.004x after this
+    stage.)"""
     lam = np.linalg.eigvals(obj.Ae - G @ obj.Ce)
     scale = max(1.0, float(np.max(np.abs(lam))))
     near = obj.region.margins(lam).max(axis=1) >= -tol * scale
