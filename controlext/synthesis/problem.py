@@ -201,10 +201,17 @@ class ObserverProblem:
 
     @property
     def noise_scale(self) -> float:
-        """Size of the noise-to-error channel ``‖Cze‖ (‖Bwe‖ + ‖Dwe‖)``."""
-        return float(np.linalg.norm(self.Cze, 2) *
-                     (np.linalg.norm(self.Bwe, 2) +
-                      np.linalg.norm(self.Dwe, 2)))
+        """Size of the noise-to-error channel in the units of its norm,
+        ``‖Cze‖ (‖Bwe‖ / r + ‖Dwe‖ / ‖C‖)`` with the plant's rate
+        ``r = max(1, ‖A‖)``: the disturbance reaches the error through
+        the dynamics (a factor of order ``1 / r``), the sensor noise
+        through a gain of order ``r / ‖C‖``."""
+        rate = max(1.0, float(np.linalg.norm(self.A, 2)))
+        sensor = float(np.linalg.norm(self.C, 2))
+        noise = np.linalg.norm(self.Dwe, 2)
+        return float(np.linalg.norm(self.Cze, 2) * (
+            np.linalg.norm(self.Bwe, 2) / rate +
+            (noise / sensor if sensor else noise)))
 
     def error_system(self, G: ArrayLike) -> tuple[Array, Array, Array, Array]:
         """Matrices ``(Acl, Bcl, Ccl, Dcl)`` of the error system for gain G."""
