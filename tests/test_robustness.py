@@ -153,6 +153,29 @@ def test_placement_keeps_python_controls_warning_to_itself():
     assert np.abs(np.linalg.eigvals(A - L @ C).imag).max() < 1e-6
 
 
+def test_first_order_solver_at_its_cap_is_not_taken_further():
+    """SCS (the fallback when clarabel fails) ends 'optimal_inaccurate'
+    at its iteration cap, where its γ locates nothing: the stage stops
+    there and says how to go on, instead of three more capped stage-2
+    solves (campaign seeds 0-299: the 31 such fallbacks cost 211 s and
+    none gave the design)."""
+    from controlext.exceptions import SolverError
+    from controlext.synthesis import ObserverProblem
+    from controlext.synthesis.lmi import solve_observer_lmi
+    problem = ObserverProblem(np.array([[-1.0, 1.0], [-1.0, 0.0]]),
+                              np.array([[1.0, 2.0]]))
+    with pytest.raises(SolverError, match="max_iters") as info:
+        solve_observer_lmi(problem, cx.HalfPlane(1.0), solver='SCS',
+                           solver_options={'max_iters': 50})
+    assert info.value.status == 'optimal_inaccurate'
+    assert 'stage2' not in info.value.stats
+    # given the iterations, the same solver certifies a design
+    sol = solve_observer_lmi(problem, cx.HalfPlane(1.0), solver='SCS',
+                             solver_options={'max_iters': 5000})
+    Acl = problem.A - sol.G @ problem.C
+    assert np.linalg.eigvals(Acl).real.max() <= -1.0 + 1e-6
+
+
 def test_huge_margin_and_failing_stage_two(monkeypatch, second_order_plant):
     obs = cx.hinf_observer(second_order_plant, decay=1.0, margin=1e12,
                            refine=False)

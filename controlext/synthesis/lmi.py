@@ -94,6 +94,10 @@ class LMISolution:
     stats: dict = field(default_factory=dict)
 
 
+#: solvers whose 'optimal_inaccurate' means the iteration cap was reached
+FIRST_ORDER = {'SCS'}
+
+
 def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
                        solver_options=None, criteria=None):
     """Solve the observer LMI of ``problem`` in two stages.
@@ -130,9 +134,12 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
     stats = {'solver': solver}
     # When γ* is not attained (unstable modes) clarabel may end stage 1
     # 'optimal_inaccurate': its γ then only locates the optimum, and the
-    # certificate must come from stage 2, which has to end 'optimal'.
-    accept = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) if margin > 1 else \
-        (cp.OPTIMAL,)
+    # certificate must come from stage 2, which has to end 'optimal'.  A
+    # first-order solver ends so at its iteration cap, where its γ locates
+    # nothing (the fallback route's stage 2 then took three more capped
+    # solves)
+    accept = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) if margin > 1 and \
+        str(solver).upper() not in FIRST_ORDER else (cp.OPTIMAL,)
     _solve(stage1, solver, opts, 'stage 1 (minimise γ)', stats, 'stage1',
            accept=accept)
     gamma_convex = float(np.sqrt(max(gamma.value, 0.0))) if squared else \
@@ -325,6 +332,10 @@ def _solve(prob, solver, opts, what, stats, key, accept=(cp.OPTIMAL,)):
                               'region reachable?)',
                 'unbounded': 'the problem is unbounded',
                 }.get(prob.status, 'the solution is not reliable')
+        if str(solver).upper() in FIRST_ORDER and \
+                prob.status == cp.OPTIMAL_INACCURATE:
+            hint += (" (it stopped at its iteration cap; solver_options="
+                     "{'max_iters': ...} raises it)")
         raise SolverError(f"{what}: solver {solver} ended with status "
                           f"'{prob.status}': {hint}", status=prob.status,
                           stats=stats)
