@@ -2,7 +2,13 @@
 
 import os
 
-import numpy as np
+# one BLAS thread per test process: the suite runs one process per core
+# (pytest-xdist), and OpenBLAS threads waiting beside the other process
+# cost more than they save on these small matrices
+for _name in ('OPENBLAS_NUM_THREADS', 'OMP_NUM_THREADS', 'MKL_NUM_THREADS'):
+    os.environ.setdefault(_name, '1')
+
+import numpy as np  # noqa: E402
 import pytest
 import control as ct
 
