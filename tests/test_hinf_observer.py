@@ -1,6 +1,9 @@
 """hinf_observer against an independent Riccati bisection, and the
 two-stage conditioning of the extracted gain."""
 
+import pathlib
+import sys
+
 import numpy as np
 import pytest
 import scipy.linalg as la
@@ -10,6 +13,9 @@ import controlext as cx
 from controlext.synthesis import ObserverProblem
 from controlext.synthesis.lmi import solve_observer_lmi
 from conftest import error_system, unstable_plant
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
+from plants import PUBLIC, noise_model  # noqa: E402
 
 
 def riccati_level(A, C, Bw, Dw, Cz, rtol=1e-7):
@@ -188,19 +194,13 @@ def test_convex_stage_keeps_an_attained_optimum(scalar_plant):
 
 
 def _quarter_car(seconds=1.0):
-    """MATLAB's active-suspension quarter car (its "Robust Control of an
-    Active Suspension" example), input disturbances and sensor noise 0.1,
-    time in units of ``seconds``."""
-    mb, mw, bs, ks, kt = 300.0, 60.0, 1000.0, 16000.0, 190000.0
-    A = np.array([[0, 1, 0, 0],
-                  [-ks / mb, -bs / mb, ks / mb, bs / mb],
-                  [0, 0, 0, 1],
-                  [ks / mw, bs / mw, -(ks + kt) / mw, -bs / mw]])
-    B = np.array([[0, 0], [0, 1e3 / mb], [0, 0], [kt / mw, -1e3 / mw]])
-    C = np.array([[1.0, 0, 0, 0], [1.0, 0, -1.0, 0]])
-    Bw = np.hstack([B, np.zeros((4, 2))]) * seconds
-    Dw = np.hstack([np.zeros((2, 2)), 0.1 * np.eye(2)])
-    return ct.ss(A * seconds, B * seconds, C, 0), Bw, Dw
+    """MATLAB's active-suspension quarter car (benchmarks/plants.py),
+    input disturbances and sensor noise 0.1, time in units of
+    ``seconds``."""
+    plant = PUBLIC['quarter car']
+    Bw, Dw = noise_model(plant)
+    return ct.ss(plant.A * seconds, plant.B * seconds, plant.C, 0), \
+        Bw * seconds, Dw
 
 
 @pytest.mark.parametrize('seconds', [1.0, 1e-3], ids=['s', 'ms'])

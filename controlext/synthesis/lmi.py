@@ -98,6 +98,10 @@ class LMISolution:
 FIRST_ORDER = {'SCS'}
 
 
+def _first_order(solver):
+    return str(solver).upper() in FIRST_ORDER
+
+
 def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
                        solver_options=None, criteria=None):
     """Solve the observer LMI of ``problem`` in two stages.
@@ -138,8 +142,8 @@ def solve_observer_lmi(problem, region=None, margin=1.02, solver=None,
     # first-order solver ends so at its iteration cap, where its γ locates
     # nothing (the fallback route's stage 2 then took three more capped
     # solves)
-    accept = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) if margin > 1 and \
-        str(solver).upper() not in FIRST_ORDER else (cp.OPTIMAL,)
+    accept = (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) \
+        if margin > 1 and not _first_order(solver) else (cp.OPTIMAL,)
     _solve(stage1, solver, opts, 'stage 1 (minimise γ)', stats, 'stage1',
            accept=accept)
     gamma_convex = float(np.sqrt(max(gamma.value, 0.0))) if squared else \
@@ -332,8 +336,7 @@ def _solve(prob, solver, opts, what, stats, key, accept=(cp.OPTIMAL,)):
                               'region reachable?)',
                 'unbounded': 'the problem is unbounded',
                 }.get(prob.status, 'the solution is not reliable')
-        if str(solver).upper() in FIRST_ORDER and \
-                prob.status == cp.OPTIMAL_INACCURATE:
+        if _first_order(solver) and prob.status == cp.OPTIMAL_INACCURATE:
             hint += (" (it stopped at its iteration cap; solver_options="
                      "{'max_iters': ...} raises it)")
         raise SolverError(f"{what}: solver {solver} ended with status "

@@ -196,7 +196,7 @@ def _bounded_norm(bound, G):
 def _scales(problem, region):
     """The plant's scale: the rate ``max(1, ‖A‖, the region's least
     speed)`` and the gain ``rate / ‖C‖``."""
-    rate = max(1.0, np.linalg.norm(problem.A, 2))
+    rate = problem.rate
     if region is not None and not problem.dt:
         rate = max(rate, -region.stable_interval()[1])
     return rate, rate / max(np.linalg.norm(problem.C, 2), 1e-300)

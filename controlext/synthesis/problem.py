@@ -200,13 +200,18 @@ class ObserverProblem:
         return np.kron(self.weights.reshape(1, -1), self.Cz)
 
     @property
+    def rate(self) -> float:
+        """The plant's rate ``max(1, ‖A‖₂)``."""
+        return max(1.0, float(np.linalg.norm(self.A, 2)))
+
+    @property
     def noise_scale(self) -> float:
         """Size of the noise-to-error channel in the units of its norm,
         ``‖Cze‖ (‖Bwe‖ / r + ‖Dwe‖ / ‖C‖)`` with the plant's rate
         ``r = max(1, ‖A‖)``: the disturbance reaches the error through
         the dynamics (a factor of order ``1 / r``), the sensor noise
         through a gain of order ``r / ‖C‖``."""
-        rate = max(1.0, float(np.linalg.norm(self.A, 2)))
+        rate = self.rate
         sensor = float(np.linalg.norm(self.C, 2))
         noise = np.linalg.norm(self.Dwe, 2)
         return float(np.linalg.norm(self.Cze, 2) * (
