@@ -39,19 +39,23 @@ def test_filter_optimum_matches_the_trade_off_issue():
     assert got == pytest.approx(ref, abs=6e-5)
 
 
-@pytest.mark.parametrize('copies, seeds', [
-    (3, (0, 1)),
-    # seed 1 stops at 1.06x at N = 5 (open in the trade-off issue)
-    pytest.param(5, (0,), marks=pytest.mark.slow),
-], ids=['N3', 'N5'])
-def test_scalar_copies_reach_the_best_filter(copies, seeds):
+@pytest.mark.parametrize('copies, seeds, within', [
+    (3, (0, 1), 1.01),
+    # seed 1 stopped at 1.081x with one pole map
+    pytest.param(5, (0, 1), 1.01, marks=pytest.mark.slow),
+    # six poles stacked at -2.5 are computed only to about 0.01 (the
+    # returned design holds them that far inside, which costs about 1 %);
+    # seed 2 stopped at 1.043x with one pole map
+    pytest.param(6, (2,), 1.025, marks=pytest.mark.slow),
+], ids=['N3', 'N5', 'N6'])
+def test_scalar_copies_reach_the_best_filter(copies, seeds, within):
     best = best_filter(copies)
     for seed in seeds:
         obs = cx.coupled_observer(SCALAR, decay=2.5, copies=copies,
                                   seed=seed)
         assert obs.decay >= 2.5 - 1e-6
-        # never below the optimum over all filters, within 1 % of it
-        assert best * (1 - 1e-4) <= obs.hinf <= 1.01 * best
+        # never below the optimum over all filters, and close to it
+        assert best * (1 - 1e-4) <= obs.hinf <= within * best
 
 
 @pytest.mark.slow
