@@ -231,14 +231,16 @@ class PoleMap:
         return np.stack(cols, axis=1)
 
 
-def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4):
+def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4,
+                  enough=None):
     """Polish ``G0`` over the gains of :class:`PoleMap` on ``obj`` (a
     refinement :class:`~controlext.synthesis.objective.Objective`).
 
     Returns ``(γ, G)`` of a gain whose computed poles are in ``region``
     and that meets ``obj``'s other constraints, or None where the region
     is not one half-plane or disk, the map is singular at the start or no
-    such gain was found.
+    such gain was found.  It returns as soon as it finds a gain of norm
+    ``enough`` or less (a floor no gain beats).
     """
     try:
         edges = region.edges()
@@ -270,6 +272,8 @@ def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4):
             if candidate is not None and (best is None or
                                           candidate[0] < best[0]):
                 best = candidate
+                if enough is not None and best[0] <= enough:
+                    return best
             # the gain realises the polynomial only as well as the
             # Ackermann solve is conditioned: where BFGS drifted to a
             # nearly unobservable (M, c), start a new map at the gain

@@ -499,7 +499,8 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         for gamma, label, G in list(results):
             if tried >= opts.placed_starts:
                 break
-            out = placed_polish(obj, region, G, seed)
+            out = placed_polish(obj, region, G, seed, enough=None if floor
+                                is None else floor * (1 + opts.floor_tol))
             if out is None:
                 continue
             tried += 1
