@@ -33,7 +33,7 @@ A stacked cluster's eigenvalues are computed only to about
 ``(ε ‖M‖)^{1/k}`` (2e-3 to 7e-3 for five poles at −2.5): where the
 computed poles of the result are outside the region, as verification
 sees them, the search goes on with every pole held ``δ`` inside (``δ``
-from the computed excess, doubling), which costs little: the best
+growing by the computed excess), which costs little: the best
 five-copy filter with its poles at ``−2.5 − 0.003`` is 0.24 % above the
 one at ``−2.5``.  Moving the poles of the result without searching
 again cost 1.6 % (the zeros were tuned to the old poles).

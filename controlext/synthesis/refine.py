@@ -496,11 +496,11 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         # the best results whose pole map is regular (that of the
         # Luenberger-equivalent start, identical copies, is singular)
         tried = 0
+        enough = None if floor is None else floor * (1 + opts.floor_tol)
         for gamma, label, G in list(results):
             if tried >= opts.placed_starts:
                 break
-            out = placed_polish(obj, region, G, seed, enough=None if floor
-                                is None else floor * (1 + opts.floor_tol))
+            out = placed_polish(obj, region, G, seed, enough=enough)
             if out is None:
                 continue
             tried += 1
