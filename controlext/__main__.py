@@ -7,6 +7,7 @@ import os
 import sys
 
 from .paper import format_table, paper_rows
+from .paper.designs import TABLE, run_designs, tradeoff_keys
 
 
 def main(argv=None):
@@ -32,14 +33,19 @@ def main(argv=None):
     with contextlib.ExitStack() as stack:
         executor = None if workers == 1 else stack.enter_context(
             concurrent.futures.ProcessPoolExecutor(workers))
-        rows = paper_rows(synthesise=not args.no_synthesis,
-                          executor=executor)
+        designs = None
+        if not args.no_synthesis:
+            # the table's designs and the figures' in one batch
+            keys = TABLE + ([] if args.no_figures else tradeoff_keys())
+            designs = run_designs(keys, executor)
+        rows = paper_rows(synthesise=not args.no_synthesis, designs=designs)
         print("Li & Sanfelice, Section IV: published numbers and "
               "controlext's")
         print(format_table(rows))
         if not args.no_figures:
             from .paper.figures import write_all
-            paths = write_all(args.out, executor=executor)
+            paths = write_all(args.out, executor=executor,
+                              designs=designs)
             print(f"\nfigures written to {args.out}/:")
             for path in paths:
                 print(f"  {path}")

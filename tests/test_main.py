@@ -60,3 +60,41 @@ def test_designs_on_workers_are_the_serial_ones():
     assert [(r.case, r.synthesised) for r in parallel] == \
         [(r.case, r.synthesised) for r in serial]
     assert all(r.ok for r in parallel)
+
+
+def test_figures_take_the_designs_they_are_given():
+    """The trade-off figure plots the γ of the designs passed to it and
+    runs none of its own (the reproduction designs each one once)."""
+    import types
+    import matplotlib
+    matplotlib.use('Agg')
+    from controlext.paper.designs import TRADEOFF_DECAYS, tradeoff_keys
+    from controlext.paper.figures import figure_tradeoff
+    designs = {key: types.SimpleNamespace(hinf=10.0 ** -key[1] * key[2])
+               for key in tradeoff_keys()}
+    fig = figure_tradeoff(designs=designs)
+    lines = fig.axes[0].get_lines()
+    assert len(lines) == 3
+    for N, line in zip((1, 2, 3), lines):
+        assert list(line.get_xdata()) == list(TRADEOFF_DECAYS)
+        assert list(line.get_ydata()) == \
+            [10.0 ** -N * d for d in TRADEOFF_DECAYS]
+
+
+def test_designs_run_once_per_key():
+    from controlext.paper.designs import TABLE, run_designs, tradeoff_keys
+    calls = []
+
+    class Recorder:
+        def map(self, fn, jobs):
+            jobs = list(jobs)
+            calls.extend(jobs)
+            return [None] * len(jobs)
+
+    keys = TABLE + tradeoff_keys()
+    out = run_designs(keys, Recorder())
+    assert set(out) == set(keys)
+    assert len(calls) == len(set(keys)) == len(keys) - 3
+    # the slowest (most copies) are handed out first
+    assert [job[0] for job in calls] == sorted((job[0] for job in calls),
+                                               reverse=True)

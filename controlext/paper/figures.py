@@ -21,13 +21,13 @@ import sys
 import numpy as np
 import control as ct
 
-from ..analysis import crossing_time, tradeoff_curve
-from ..coupled import CoupledObserver, coupled_observer
+from ..analysis import crossing_time
+from ..coupled import CoupledObserver
 from ..gi import gi_observer
 from ..luenberger import LuenbergerObserver, luenberger_observer
 from ..maps import design_map
-from .tables import (BIAS, PAIR_33, PAIR_PENBMI, scalar_plant,
-                    second_order_plant)
+from .designs import TRADEOFF_DECAYS, run_designs, tradeoff_keys
+from .tables import BIAS, PAIR_33, PAIR_PENBMI, scalar_plant
 from ..plot import (design_map_plot, error_plot, estimate_plot,
                    pole_region_plot, tradeoff_plot)
 from ..simulate import simulate
@@ -163,21 +163,21 @@ def figure_5():
     return fig
 
 
-def figure_tradeoff(decays=(0.6, 0.8, 1.0, 1.2, 1.5, 2.0), progress=None,
-                    executor=None):
-    """Best γ against required decay, N = 1, 2, 3 (second-order plant),
-    the designs on ``executor`` when given.
+def figure_tradeoff(decays=TRADEOFF_DECAYS, executor=None, designs=None):
+    """Best γ against required decay, N = 1, 2, 3 (second-order plant):
+    the designs taken from ``designs`` (a result of
+    :func:`~controlext.paper.designs.run_designs`), or run on
+    ``executor`` when given.
 
     Below the plant's own rate (0.5) the best gain is ``L = 0`` with
     ``γ = 0``, so the default decays start above it."""
+    keys = tradeoff_keys(decays)
+    if designs is None or not set(keys) <= set(designs):
+        designs = run_designs(keys, executor)
     curve = {'decay': np.asarray(decays, dtype=float)}
     for N in (1, 2, 3):
-        part = tradeoff_curve(second_order_plant(), decays, copies=(N,),
-                              refine_options={'random_starts': 6},
-                              executor=executor)
-        curve[N] = part[N]
-        if progress:
-            progress()
+        curve[N] = np.array([designs['second', N, float(d)].hinf
+                             for d in decays])
     cplt = tradeoff_plot(curve, title='Trade-off on the second-order plant: '
                                       'γ against required decay')
     cplt.axes[0, 0].set_yscale('log')
@@ -211,18 +211,20 @@ def figure_gi():
     return cplt.figure
 
 
-def figure_poles():
-    """Poles of the synthesised second-order pair with its region."""
-    obs = coupled_observer(second_order_plant(), decay=1.0)
+def figure_poles(designs=None):
+    """Poles of the synthesised second-order pair with its region (taken
+    from ``designs`` when it holds it)."""
+    key = ('second', 2, 1.0)
+    obs = (designs or {}).get(key) or run_designs([key])[key]
     cplt = pole_region_plot(obs, extent=(-3, 0.5, -2, 2),
                             title='Coupled pair, σ = 1: error poles in '
                                   'Re s ≤ -1')
     return cplt.figure
 
 
-def write_all(folder, progress=True, executor=None):
+def write_all(folder, progress=True, executor=None, designs=None):
     """Write every figure as PNG into ``folder``; return the paths (the
-    trade-off figure's designs run on ``executor`` when given)."""
+    designs taken from ``designs``, or run on ``executor`` when given)."""
     import matplotlib
     matplotlib.use('Agg')
     plt = _plt()
@@ -232,10 +234,11 @@ def write_all(folder, progress=True, executor=None):
             ('figure3_maps.png', figure_3),
             ('figure4_feasible_region.png', figure_4),
             ('figure5_errors.png', figure_5),
-            ('tradeoff.png', functools.partial(figure_tradeoff,
-                                               executor=executor)),
+            ('tradeoff.png', functools.partial(
+                figure_tradeoff, executor=executor, designs=designs)),
             ('gi_disturbance.png', figure_gi),
-            ('poles_region.png', figure_poles)]
+            ('poles_region.png', functools.partial(figure_poles,
+                                                   designs=designs))]
     paths = []
     for k, (name, make) in enumerate(jobs):
         if show:

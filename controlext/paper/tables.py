@@ -96,29 +96,15 @@ MU_SECOND_ORDER = np.array([[-0.2790, 0.2160, 0.1400, -0.1149],
                             [0.0367, -0.9901, 0.3470, 0.7500]]).T
 
 
-def _design(job):
-    """One design ``(factory, (A, B, C, D, dt), kwargs)`` (module level and
-    on plain arrays: picklable, unlike python-control's systems)."""
-    factory, data, kw = job
-    return factory(ct.ss(*data), **kw)
-
-
-def _designs(executor, jobs):
-    """``{key: observer}`` of ``jobs = {key: (factory, plant, kwargs)}``,
-    on ``executor`` when given (the designs do not depend on it)."""
-    jobs = {key: (f, (plant.A, plant.B, plant.C, plant.D, plant.dt), kw)
-            for key, (f, plant, kw) in jobs.items()}
-    run = map if executor is None else executor.map
-    return dict(zip(jobs, run(_design, jobs.values())))
-
-
-def coupled_rows(synthesise=True, executor=None):
+def coupled_rows(synthesise=True, executor=None, designs=None):
     """Rows for the coupled observers of Section IV (and, with
-    ``synthesise``, the designs controlext's own synthesis reaches, run
-    on ``executor`` when given)."""
+    ``synthesise``, the designs controlext's own synthesis reaches: taken
+    from ``designs``, a result of
+    :func:`~controlext.paper.designs.run_designs`, or run on ``executor``
+    when given)."""
     from ..analysis import iss_estimate, log_norm
-    from ..coupled import CoupledObserver, coupled_observer
-    from ..luenberger import hinf_observer
+    from ..coupled import CoupledObserver
+    from .designs import TABLE, run_designs
     plant = scalar_plant()
     pair = CoupledObserver.from_pair(plant, *PAIR_33)
     eig = ct.poles(pair)
@@ -140,16 +126,10 @@ def coupled_rows(synthesise=True, executor=None):
     penbmi = CoupledObserver.from_pair(plant, *PAIR_PENBMI)
     syn, second = {}, {}
     if synthesise:
-        jobs = {('scalar', N): (coupled_observer, plant,
-                                dict(decay=2.5, copies=N)) for N in (2, 3)}
-        jobs.update({('second', N): (coupled_observer, second_order_plant(),
-                                     dict(decay=1.0, copies=N))
-                     for N in (2, 3)})
-        jobs['second', 1] = (hinf_observer, second_order_plant(),
-                             dict(decay=1.0))
-        done = _designs(executor, jobs)
-        syn = {N: done['scalar', N] for N in (2, 3)}
-        second = {N: done['second', N] for N in (1, 2, 3)}
+        if designs is None or not set(TABLE) <= set(designs):
+            designs = run_designs(TABLE, executor)
+        syn = {N: designs['scalar', N, 2.5] for N in (2, 3)}
+        second = {N: designs['second', N, 1.0] for N in (1, 2, 3)}
     rows.append(PaperRow('scalar pair (PENBMI), σ = 2.5', 'γ', '0.4953',
                          _fmt(penbmi.hinf), _syn(syn.get(2)),
                          ok=_close(penbmi.hinf, 0.4953, 4) and
@@ -182,10 +162,10 @@ def _reached(obs, published):
     return obs is None or obs.hinf < published + 5e-5
 
 
-def paper_rows(synthesise=True, executor=None):
-    """Every row of the reproduction table (the designs on ``executor``
-    when given)."""
-    return luenberger_rows() + coupled_rows(synthesise, executor)
+def paper_rows(synthesise=True, executor=None, designs=None):
+    """Every row of the reproduction table (the designs from ``designs``,
+    or run on ``executor`` when given)."""
+    return luenberger_rows() + coupled_rows(synthesise, executor, designs)
 
 
 def format_table(rows):

@@ -1,0 +1,76 @@
+"""The designs of the reproduction, each run once.
+
+The table (:mod:`~controlext.paper.tables`) needs five designs and the
+figures (:mod:`~controlext.paper.figures`) the second-order plant's at
+five decays for one, two and three copies, three of them the table's own.
+:func:`run_designs` runs the ones asked for together, on ``executor``
+when given (the slowest first, so that a pool ends together), and both
+take them from its result.  A design is keyed ``(plant, copies, decay)``
+with ``plant`` ``'scalar'`` or ``'second'``; one copy is
+:func:`~controlext.hinf_observer`, more a
+:func:`~controlext.coupled_observer`: the table's with default options,
+the figure's others with ``FIGURE_OPTIONS`` (fewer random starts).
+
+Examples
+--------
+>>> from controlext.paper.designs import TABLE, run_designs
+>>> sorted(TABLE)[:2]
+[('scalar', 2, 2.5), ('scalar', 3, 2.5)]
+>>> obs = run_designs([('scalar', 1, 2.5)])[('scalar', 1, 2.5)]
+>>> round(obs.hinf, 4)                  # k0 = 2: γ0 = k0 / (k0 + 0.5)
+0.8
+"""
+
+import control as ct
+
+from .tables import scalar_plant, second_order_plant
+
+__all__ = ['TABLE', 'TRADEOFF_DECAYS', 'FIGURE_OPTIONS', 'tradeoff_keys',
+           'run_designs']
+
+#: the designs of the table
+TABLE = [('scalar', 2, 2.5), ('scalar', 3, 2.5),
+         ('second', 1, 1.0), ('second', 2, 1.0), ('second', 3, 1.0)]
+
+#: the decays of the trade-off figure; below the second-order plant's own
+#: rate (0.5) the best gain is ``L = 0`` with ``γ = 0``
+TRADEOFF_DECAYS = (0.6, 0.8, 1.0, 1.5, 2.0)
+
+#: refinement options of the figure's designs that are not the table's:
+#: 6 random starts instead of 32 halve their time
+FIGURE_OPTIONS = {'random_starts': 6}
+
+_PLANTS = {'scalar': scalar_plant, 'second': second_order_plant}
+
+
+def tradeoff_keys(decays=TRADEOFF_DECAYS):
+    """The designs of the trade-off figure."""
+    return [('second', N, float(d)) for N in (1, 2, 3) for d in decays]
+
+
+def _design(job):
+    """One design ``(copies, (A, B, C, D, dt), decay, options)`` (module
+    level and on plain arrays: picklable, unlike python-control's
+    systems)."""
+    from ..coupled import coupled_observer
+    from ..luenberger import hinf_observer
+    copies, data, decay, options = job
+    plant = ct.ss(*data)
+    if copies == 1:
+        return hinf_observer(plant, decay=decay, refine_options=options)
+    return coupled_observer(plant, decay=decay, copies=copies,
+                            refine_options=options)
+
+
+def run_designs(keys, executor=None):
+    """``{key: observer}`` for every key (duplicates run once), on
+    ``executor`` when given; the designs do not depend on it."""
+    keys = sorted(set(keys), key=lambda k: (-k[1], k))   # slowest first
+    jobs = []
+    for key in keys:
+        name, copies, decay = key
+        plant = _PLANTS[name]()
+        jobs.append((copies, (plant.A, plant.B, plant.C, plant.D, plant.dt),
+                     float(decay), None if key in TABLE else FIGURE_OPTIONS))
+    run = map if executor is None else executor.map
+    return dict(zip(keys, run(_design, jobs)))
