@@ -66,16 +66,23 @@ class Sweep:
         return sorted(keep, key=lambda k: xs[k])
 
 
-def _point(job):
-    """One design of a sweep (module level: picklable)."""
+def observer(data, design):
+    """The observer of ``design`` (the factories' keywords; ``copies = 1``,
+    the default, is :func:`~controlext.hinf_observer`, more copies
+    :func:`~controlext.coupled_observer`) for the plant ``data = (A, B, C,
+    D, dt)``: plain arrays, which pickle to a worker."""
     from .coupled import coupled_observer
     from .luenberger import hinf_observer
-    (A, B, C, D, dt), design = job
-    plant = ct.ss(A, B, C, D, dt)
+    plant = ct.ss(*data)
+    design = dict(design)
     copies = design.pop('copies', 1)
-    obs = hinf_observer(plant, **design) if copies == 1 else \
+    return hinf_observer(plant, **design) if copies == 1 else \
         coupled_observer(plant, copies=copies, **design)
-    return obs.tradeoff
+
+
+def _point(job):
+    """One design of a sweep (module level: picklable)."""
+    return observer(*job).tradeoff
 
 
 def sweep(plant: Plant, parameter: str, values: Sequence[Any], *,

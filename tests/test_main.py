@@ -96,5 +96,5 @@ def test_designs_run_once_per_key():
     assert set(out) == set(keys)
     assert len(calls) == len(set(keys)) == len(keys) - 3
     # the slowest (most copies) are handed out first
-    assert [job[0] for job in calls] == sorted((job[0] for job in calls),
-                                               reverse=True)
+    copies = [design['copies'] for _, design in calls]
+    assert copies == sorted(copies, reverse=True)

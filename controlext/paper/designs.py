@@ -21,8 +21,7 @@ Examples
 0.8
 """
 
-import control as ct
-
+from ..sweep import observer
 from .tables import scalar_plant, second_order_plant
 
 __all__ = ['TABLE', 'TRADEOFF_DECAYS', 'FIGURE_OPTIONS', 'tradeoff_keys',
@@ -36,8 +35,8 @@ TABLE = [('scalar', 2, 2.5), ('scalar', 3, 2.5),
 #: rate (0.5) the best gain is ``L = 0`` with ``γ = 0``
 TRADEOFF_DECAYS = (0.6, 0.8, 1.0, 1.5, 2.0)
 
-#: refinement options of the figure's designs that are not the table's:
-#: 6 random starts instead of 32 halve their time
+#: refinement options of the figure's designs that are not the table's
+#: (fewer random starts than the default 32)
 FIGURE_OPTIONS = {'random_starts': 6}
 
 _PLANTS = {'scalar': scalar_plant, 'second': second_order_plant}
@@ -49,17 +48,8 @@ def tradeoff_keys(decays=TRADEOFF_DECAYS):
 
 
 def _design(job):
-    """One design ``(copies, (A, B, C, D, dt), decay, options)`` (module
-    level and on plain arrays: picklable, unlike python-control's
-    systems)."""
-    from ..coupled import coupled_observer
-    from ..luenberger import hinf_observer
-    copies, data, decay, options = job
-    plant = ct.ss(*data)
-    if copies == 1:
-        return hinf_observer(plant, decay=decay, refine_options=options)
-    return coupled_observer(plant, decay=decay, copies=copies,
-                            refine_options=options)
+    """One design ``(plant data, keywords)`` (module level: picklable)."""
+    return observer(*job)
 
 
 def run_designs(keys, executor=None):
@@ -70,7 +60,9 @@ def run_designs(keys, executor=None):
     for key in keys:
         name, copies, decay = key
         plant = _PLANTS[name]()
-        jobs.append((copies, (plant.A, plant.B, plant.C, plant.D, plant.dt),
-                     float(decay), None if key in TABLE else FIGURE_OPTIONS))
+        jobs.append(((plant.A, plant.B, plant.C, plant.D, plant.dt),
+                     dict(copies=copies, decay=float(decay),
+                          refine_options=None if key in TABLE
+                          else FIGURE_OPTIONS)))
     run = map if executor is None else executor.map
     return dict(zip(keys, run(_design, jobs)))

@@ -215,7 +215,9 @@ def figure_poles(designs=None):
     """Poles of the synthesised second-order pair with its region (taken
     from ``designs`` when it holds it)."""
     key = ('second', 2, 1.0)
-    obs = (designs or {}).get(key) or run_designs([key])[key]
+    obs = (designs or {}).get(key)
+    if obs is None:
+        obs = run_designs([key])[key]
     cplt = pole_region_plot(obs, extent=(-3, 0.5, -2, 2),
                             title='Coupled pair, σ = 1: error poles in '
                                   'Re s ≤ -1')

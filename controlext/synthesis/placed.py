@@ -321,12 +321,12 @@ def _search(pmap, obj, inner, theta, iterations, race=None):
             return lost         # (M, c) unobservable: no Ackermann gain
         return (value, g) if np.all(np.isfinite(g)) else lost
 
-    steps, lost = [0], [False]
+    steps = 0
 
     def behind(x, fx):
-        steps[0] += 1
-        lost[0] = race is not None and steps[0] > race[0] and fx > race[1]
-        return lost[0]
+        nonlocal steps
+        steps += 1
+        return steps > race[0] and fx > race[1]
 
     shift, first = 0.0, None
     for _ in range(12):
@@ -334,8 +334,8 @@ def _search(pmap, obj, inner, theta, iterations, race=None):
                             iterations if shift == 0 else iterations // 4,
                             stop=behind if shift == 0 and race else None,
                             stall=40, stall_tol=1e-9)
-        if lost[0]:
-            return None
+        if race and shift == 0 and steps > race[0] and value > race[1]:
+            return None         # lost the race
         if not np.isfinite(value):
             return first and (*first, None)
         G = pmap.gain(theta, shift)
