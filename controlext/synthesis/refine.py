@@ -191,7 +191,11 @@ def _finish(obj, x):
     # then the answer
     best_gamma, best_G = obj.best
     if best_G is not None and not gamma <= best_gamma:
-        G, gamma = best_G, obj.norm(best_G)
+        # (the search's norms of large systems are lower bounds: the
+        # exact ones decide)
+        other = obj.norm(best_G)
+        if other < gamma:
+            G, gamma = best_G, other
     if G is None or not np.isfinite(gamma):
         return np.inf, None
     return gamma, G
