@@ -214,8 +214,11 @@ class Objective:
                 not stable_poles(lam, self.dt):
             return exact()
         self._searches += 1
-        gamma, w = _peaks.peak_search(lam, V, Bcl, self.Ccl,
-                                      extra=self._peaks)
+        try:
+            gamma, w = _peaks.peak_search(lam, V, Bcl, self.Ccl,
+                                          extra=self._peaks)
+        except np.linalg.LinAlgError:       # eigenvectors singular
+            return exact()
         if self._searches % CHECK_EVERY == 0:
             # the check: a peak the search missed ends its use here
             out = exact()

@@ -129,10 +129,10 @@ def _newton(Cm, Bm, lam, w, iterations=30, rtol=1e-13, least=1e-3):
     doubles it, up to a tenth of the frequency or ``least``, whichever
     is larger (where the curve is not concave, the step climbs the slope
     by the interval: away from ω = 0 at a minimum there).  A start stops
-    when its
-    Newton step promises less than ``rtol`` (relative) or its interval
-    has shrunk to nothing, and when it meets another start (the same
-    maximum, climbed once).
+    when its Newton step promises less than ``rtol`` (relative), when its
+    interval has shrunk to nothing, and when it meets another start or
+    climbs towards a neighbour already as high (the same hill, climbed
+    once).
     """
     w = np.asarray(w, dtype=float).copy()
     radius = np.maximum(0.1 * w, least)
@@ -181,9 +181,11 @@ def peak_search(lam, V, B, C, extra=(), share=0.5, density=120):
     ``A = V diag(lam) V⁻¹`` (continuous time, stable), and its frequency.
 
     ``extra``: frequencies to start from besides the grid (recent peaks);
-    the grid holds ``0``, the modal frequencies and ``density`` points
-    spaced logarithmically from a tenth of the slowest pole to ten times
-    the fastest.  Newton's method starts from the maximum of the cubic
+    the grid holds ``0``, the modal frequencies, the points a damping
+    width either side of each lightly damped resonance (damping below 10
+    % of its frequency) and ``density`` points spaced logarithmically
+    from a tenth of the slowest pole to ten times the fastest.  Newton's
+    method starts from the maximum of the cubic
     through each pair of neighbouring samples and their slopes (where it
     has one inside), from each local maximum of the samples and from each
     modal frequency, where the gain there is within ``share`` of the
