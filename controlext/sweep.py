@@ -31,6 +31,7 @@ import control as ct
 from ._checks import as_plant, check_choice
 from ._typing import ExecutorLike, Plant
 from .exceptions import ArgumentError
+from .synthesis.refine import single_threaded
 from .synthesis.tradeoff import Tradeoff
 
 __all__ = ['Sweep', 'sweep']
@@ -80,8 +81,10 @@ def observer(data, design):
         coupled_observer(plant, copies=copies, **design)
 
 
+@single_threaded
 def _point(job):
-    """One design of a sweep (module level: picklable)."""
+    """One design of a sweep (module level: picklable), BLAS on one
+    thread: on a pool the other cores are busy."""
     return observer(*job).tradeoff
 
 

@@ -50,12 +50,38 @@ def test_best_point_inside_the_region_when_the_final_push_fails(monkeypatch):
 def test_inner_loop_runs_blas_on_one_thread():
     threadpoolctl = pytest.importorskip('threadpoolctl')
 
-    @refine._single_threaded
+    @refine.single_threaded
     def inside():
         return [d['num_threads'] for d in threadpoolctl.threadpool_info()
                 if d['user_api'] == 'blas']
 
-    assert inside() and set(inside()) == {1}
+    # the suite itself runs BLAS on one thread: two outside, one inside
+    with threadpoolctl.threadpool_limits(2, user_api='blas'):
+        assert inside() and set(inside()) == {1}
+
+
+def test_pool_workers_run_blas_on_one_thread(monkeypatch):
+    """The designs a sweep or the paper's reproduction hands to a pool
+    run with BLAS on one thread (the pool keeps the other cores busy)."""
+    threadpoolctl = pytest.importorskip('threadpoolctl')
+    import importlib
+    from types import SimpleNamespace
+    from controlext.paper import designs
+    sweep = importlib.import_module('controlext.sweep')   # not the function
+
+    def threads(*args):
+        return [d['num_threads'] for d in threadpoolctl.threadpool_info()
+                if d['user_api'] == 'blas']
+
+    monkeypatch.setattr(designs, 'observer', threads)
+    monkeypatch.setattr(sweep, 'observer',
+                        lambda *a: SimpleNamespace(tradeoff=threads()))
+    job = ((1, 1, 1, 0, 0), {})
+    # the suite itself runs BLAS on one thread: two outside, one inside
+    with threadpoolctl.threadpool_limits(2, user_api='blas'):
+        assert max(threads()) == 2
+        assert set(designs._design(job)) == {1}
+        assert set(sweep._point(job)) == {1}
 
 
 def _stable_pair(rng, n):

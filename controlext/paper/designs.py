@@ -22,6 +22,7 @@ Examples
 """
 
 from ..sweep import observer
+from ..synthesis.refine import single_threaded
 from .tables import scalar_plant, second_order_plant
 
 __all__ = ['TABLE', 'TRADEOFF_DECAYS', 'FIGURE_OPTIONS', 'tradeoff_keys',
@@ -47,8 +48,10 @@ def tradeoff_keys(decays=TRADEOFF_DECAYS):
     return [('second', N, float(d)) for N in (1, 2, 3) for d in decays]
 
 
+@single_threaded
 def _design(job):
-    """One design ``(plant data, keywords)`` (module level: picklable)."""
+    """One design ``(plant data, keywords)`` (module level: picklable),
+    BLAS on one thread: on a pool the other cores are busy."""
     return observer(*job)
 
 

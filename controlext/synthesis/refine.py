@@ -104,7 +104,7 @@ def _make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7)):
     return G if obj.margin(G)[0] <= target else None
 
 
-def _single_threaded(fn):
+def single_threaded(fn):
     """Run ``fn`` with BLAS on one thread.
 
     The refinement evaluates thousands of small dense problems (eigen-
@@ -147,7 +147,7 @@ def _on_boundary(obj, G):
     return obj.margin(G)[0] <= REGION_TOL * scale
 
 
-@_single_threaded
+@single_threaded
 def _screen(args):
     """Make a start feasible and run a short BFGS (picklable worker)."""
     obj, G, delta, iterations, push = args
@@ -170,7 +170,7 @@ def _screen(args):
     return fx, (x, obj.best), obj.count - before
 
 
-@_single_threaded
+@single_threaded
 def _advance(args):
     """More BFGS steps on a screened start (worker): the second round of
     screening of costly problems."""
@@ -201,7 +201,7 @@ def _finish(obj, x):
     return gamma, G
 
 
-@_single_threaded
+@single_threaded
 def _polish_step(args):
     """One BFGS segment of a polishing run (worker).
 
