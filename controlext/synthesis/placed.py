@@ -87,6 +87,7 @@ class PoleMap:
     def __init__(self, problem, edge, G0, rng, floor=1e-3):
         self.Ae, self.Ce = problem.Ae, problem.Ce
         self.m, self.P = self.Ae.shape[0], self.Ce.shape[0]
+        self._last = None
         self.kind, self.center, self.radius = edge
         G0 = np.asarray(G0, float)
         lam = (np.linalg.eigvals(self.Ae - G0 @ self.Ce) - self.center) / \
@@ -134,7 +135,17 @@ class PoleMap:
         return out
 
     def _parts(self, theta, shift):
-        """Everything :meth:`gain` and :meth:`gain_vjp` share."""
+        """Everything :meth:`gain` and :meth:`gain_vjp` share (the last
+        point's kept: a search asks for the gain of a point, then for its
+        gradient)."""
+        key = (theta.tobytes(), shift)
+        if self._last is not None and self._last[0] == key:
+            return self._last[1]
+        parts = self._compute_parts(theta, shift)
+        self._last = (key, parts)
+        return parts
+
+    def _compute_parts(self, theta, shift):
         m, P = self.m, self.P
         F = theta[:m * P].reshape(m, P)
         h = theta[m * P:m * P + P]
@@ -183,12 +194,14 @@ class PoleMap:
         second is None when ``W`` is)."""
         p = self._parts(theta, shift)
         m = self.m
-        e = np.zeros(m)
-        e[-1] = 1.0
-        with np.errstate(all='ignore'):
-            w = np.linalg.solve(p['rows'], e)
-            k = p['chi'] @ w
-        G = p['F'] + np.outer(k, p['h'])
+        if 'G' not in p:
+            e = np.zeros(m)
+            e[-1] = 1.0
+            with np.errstate(all='ignore'):
+                p['w'] = np.linalg.solve(p['rows'], e)
+                p['k'] = p['chi'] @ p['w']
+            p['G'] = p['F'] + np.outer(p['k'], p['h'])
+        w, k, G = p['w'], p['k'], p['G'].copy()
         if W is None:
             return G, None
         W = np.asarray(W, float).reshape(G.shape)
