@@ -26,7 +26,11 @@ is computed only when asked for, reusing the decomposition of the same
 point (a line search needs it only at the points it accepts), and a trial
 point whose penalty and frequency response at recent peak frequencies
 already exceed the line search's threshold is rejected on that lower
-bound alone.
+bound alone.  On continuous-time error systems of more than
+:data:`~controlext.synthesis.peaks.STATES` states the search's H∞ norm
+comes from the eigendecomposition instead of ``ab13dd``
+(:mod:`~controlext.synthesis.peaks`); :meth:`Objective.norm` is always
+``ab13dd``'s.
 
 Examples
 --------
