@@ -274,6 +274,7 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
                  opts.polish_tol)
                 for k in going])):
             before = runs[k]['value']
+            run['previous'] = run.get('gain', np.inf)
             run['gain'] = (before - run['value']) / abs(run['value']) \
                 if np.isfinite(before) else np.inf
             runs[k] = run
@@ -289,7 +290,7 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
                     run['value'] > opts.race_keep * lead:
                 run['stop'] = True
             elif behind > 0 and run['escalation'] == 0 and \
-                    run['gain'] * left * opts.race_reach < \
+                    _reach(run, left) * opts.race_reach < \
                     behind + opts.race_tie:
                 # at the pace of its last segment it cannot get ahead of
                 # the leader (by more than a tie) within its budget (a run
@@ -301,6 +302,18 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
                 # structure does better
                 run['stop'] = True
     return [run['result'] for run in runs], points
+
+
+def _reach(run, left):
+    """How much further a run may get in ``left`` segments: its last
+    segment's gain each time, or, where its gains shrink, their geometric
+    series."""
+    gain, previous = run['gain'], run['previous']
+    reach = gain * left
+    if 0 < gain < previous < np.inf:
+        ratio = gain / previous
+        reach = min(reach, gain * ratio / (1 - ratio))
+    return reach
 
 
 def _clustered(obj, G, tol=1e-2):
