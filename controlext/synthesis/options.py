@@ -108,7 +108,8 @@ class RefineOptions:
         After each segment a run more than ``race_keep`` behind the
         leader whose last segment gained less than ``race_progress``
         (relative) stops; so does a run whose remaining segments, at the
-        pace of its last one times ``race_reach``, would not take it more
+        pace of its last one (or, where its gains shrink, along their
+        geometric series) times ``race_reach``, would not take it more
         than ``race_tie`` (relative) ahead of the leader.
     floor_tol : float
         Refinement stops once a point inside the region is within this

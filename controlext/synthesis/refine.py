@@ -253,7 +253,8 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
     The runs advance in rounds of one segment each (in parallel on
     ``executor``); after a round, a run stops there when it is more than
     ``opts.race_keep`` behind the leader and its last segment gained less
-    than ``opts.race_progress``, when at that segment's pace (times
+    than ``opts.race_progress``, when at that segment's pace (or along
+    the geometric series of its shrinking gains; times
     ``opts.race_reach``) its remaining segments would not take it more
     than ``opts.race_tie`` ahead of the leader, or when a point inside
     the region within ``opts.floor_tol`` of ``floor`` (a level no gain
@@ -292,7 +293,7 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
             elif behind > 0 and run['escalation'] == 0 and \
                     _reach(run, left) * opts.race_reach < \
                     behind + opts.race_tie:
-                # at the pace of its last segment it cannot get ahead of
+                # at the pace of its last segments it cannot get ahead of
                 # the leader (by more than a tie) within its budget (a run
                 # whose penalty weight was raised is not judged so: its
                 # values jumped with the weight)
