@@ -237,3 +237,18 @@ def test_polishing_stops_at_the_floor(monkeypatch):
     ran, _, _ = _scripted_polish(monkeypatch, scripts, 4, floor=0.5,
                                  best=0.6)
     assert ran == {'a': 2, 'b': 2}          # above the floor: both run out
+
+
+def test_race_reach_of_shrinking_gains():
+    """A run's reach: its last gain for every segment left, or where the
+    gains shrink the sum of their geometric continuation (summed here
+    term by term), whichever is smaller."""
+    run = dict(gain=0.004, previous=0.005)
+    series = sum(0.004 * 0.8 ** k for k in range(1, 2000))
+    assert refine._reach(run, 10) == pytest.approx(series, rel=1e-12)
+    assert refine._reach(run, 2) == pytest.approx(0.008)     # linear
+    # growing or first gains: the linear reach
+    assert refine._reach(dict(gain=0.004, previous=0.002), 10) == \
+        pytest.approx(0.04)
+    assert refine._reach(dict(gain=0.004, previous=np.inf), 10) == \
+        pytest.approx(0.04)
