@@ -26,7 +26,7 @@ from ..synthesis.refine import single_threaded
 from .tables import scalar_plant, second_order_plant
 
 __all__ = ['TABLE', 'TRADEOFF_DECAYS', 'FIGURE_OPTIONS', 'tradeoff_keys',
-           'run_designs']
+           'run_designs', 'designs_for']
 
 #: the designs of the table
 TABLE = [('scalar', 2, 2.5), ('scalar', 3, 2.5),
@@ -69,3 +69,13 @@ def run_designs(keys, executor=None):
                           else FIGURE_OPTIONS)))
     run = map if executor is None else executor.map
     return dict(zip(keys, run(_design, jobs)))
+
+
+def designs_for(keys, designs=None, executor=None):
+    """``designs`` (a result of :func:`run_designs`, or None) with the
+    designs of ``keys`` it lacks run on ``executor``."""
+    designs = dict(designs or {})
+    missing = [key for key in keys if key not in designs]
+    if missing:
+        designs.update(run_designs(missing, executor))
+    return designs

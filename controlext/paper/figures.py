@@ -26,7 +26,7 @@ from ..coupled import CoupledObserver
 from ..gi import gi_observer
 from ..luenberger import LuenbergerObserver, luenberger_observer
 from ..maps import design_map
-from .designs import TRADEOFF_DECAYS, run_designs, tradeoff_keys
+from .designs import TRADEOFF_DECAYS, designs_for, tradeoff_keys
 from .tables import BIAS, PAIR_33, PAIR_PENBMI, scalar_plant
 from ..plot import (design_map_plot, error_plot, estimate_plot,
                    pole_region_plot, tradeoff_plot)
@@ -166,14 +166,12 @@ def figure_5():
 def figure_tradeoff(decays=TRADEOFF_DECAYS, executor=None, designs=None):
     """Best γ against required decay, N = 1, 2, 3 (second-order plant):
     the designs taken from ``designs`` (a result of
-    :func:`~controlext.paper.designs.run_designs`), or run on
-    ``executor`` when given.
+    :func:`~controlext.paper.designs.run_designs`), those it lacks run
+    on ``executor`` when given.
 
     Below the plant's own rate (0.5) the best gain is ``L = 0`` with
     ``γ = 0``, so the default decays start above it."""
-    keys = tradeoff_keys(decays)
-    if designs is None or not set(keys) <= set(designs):
-        designs = run_designs(keys, executor)
+    designs = designs_for(tradeoff_keys(decays), designs, executor)
     curve = {'decay': np.asarray(decays, dtype=float)}
     for N in (1, 2, 3):
         curve[N] = np.array([designs['second', N, float(d)].hinf
@@ -215,9 +213,7 @@ def figure_poles(designs=None):
     """Poles of the synthesised second-order pair with its region (taken
     from ``designs`` when it holds it)."""
     key = ('second', 2, 1.0)
-    obs = (designs or {}).get(key)
-    if obs is None:
-        obs = run_designs([key])[key]
+    obs = designs_for([key], designs)[key]
     cplt = pole_region_plot(obs, extent=(-3, 0.5, -2, 2),
                             title='Coupled pair, σ = 1: error poles in '
                                   'Re s ≤ -1')
@@ -226,7 +222,8 @@ def figure_poles(designs=None):
 
 def write_all(folder, progress=True, executor=None, designs=None):
     """Write every figure as PNG into ``folder``; return the paths (the
-    designs taken from ``designs``, or run on ``executor`` when given)."""
+    designs taken from ``designs``, those it lacks run on ``executor``
+    when given)."""
     import matplotlib
     matplotlib.use('Agg')
     plt = _plt()

@@ -100,11 +100,11 @@ def coupled_rows(synthesise=True, executor=None, designs=None):
     """Rows for the coupled observers of Section IV (and, with
     ``synthesise``, the designs controlext's own synthesis reaches: taken
     from ``designs``, a result of
-    :func:`~controlext.paper.designs.run_designs`, or run on ``executor``
-    when given)."""
+    :func:`~controlext.paper.designs.run_designs`, those it lacks run on
+    ``executor`` when given)."""
     from ..analysis import iss_estimate, log_norm
     from ..coupled import CoupledObserver
-    from .designs import TABLE, run_designs
+    from .designs import TABLE, designs_for
     plant = scalar_plant()
     pair = CoupledObserver.from_pair(plant, *PAIR_33)
     eig = ct.poles(pair)
@@ -126,8 +126,7 @@ def coupled_rows(synthesise=True, executor=None, designs=None):
     penbmi = CoupledObserver.from_pair(plant, *PAIR_PENBMI)
     syn, second = {}, {}
     if synthesise:
-        if designs is None or not set(TABLE) <= set(designs):
-            designs = run_designs(TABLE, executor)
+        designs = designs_for(TABLE, designs, executor)
         syn = {N: designs['scalar', N, 2.5] for N in (2, 3)}
         second = {N: designs['second', N, 1.0] for N in (1, 2, 3)}
     rows.append(PaperRow('scalar pair (PENBMI), σ = 2.5', 'γ', '0.4953',

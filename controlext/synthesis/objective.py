@@ -45,7 +45,6 @@ Examples
 (0.8, (1,))
 """
 
-import functools
 import math
 
 import numpy as np
@@ -211,9 +210,11 @@ class Objective:
         checked by a direct solve at its peak and by ``ab13dd`` every
         :data:`CHECK_EVERY` searches; a check that finds a higher peak
         ends the modal searches of this objective."""
-        exact = functools.partial(
-            hinfnorm_matrices, Acl, Bcl, self.Ccl, self.Dcl, self.dt,
-            tol=self.norm_tol if tol is None else tol, poles=lam)
+        def exact():
+            return hinfnorm_matrices(
+                Acl, Bcl, self.Ccl, self.Dcl, self.dt,
+                tol=self.norm_tol if tol is None else tol, poles=lam)
+
         if V is None or not self.modal or tol is not None or \
                 not stable_poles(lam, self.dt):
             return exact()

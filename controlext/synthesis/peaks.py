@@ -66,23 +66,10 @@ def _apply(Cm, X):
     return Y.reshape(-1, K, r).transpose(1, 0, 2)
 
 
-def _response(Cm, Bm, lam, w):
-    """``T(j w_k)`` for the frequencies ``w`` (shape ``(K, p, m)``)."""
-    return _apply(Cm, Bm[None] / (1j * w[:, None, None] -
-                                  lam[None, :, None]))
-
-
 def _gram(X, Y):
     """``X[k]ᴴ Y[k]`` for every ``k`` (small factors: one broadcast sum
     instead of a batch of tiny matrix products)."""
     return np.sum(np.conj(X)[..., :, None] * Y[..., None, :], axis=1)
-
-
-def _top(T):
-    """Largest eigenvalue of ``Tᴴ T`` per frequency (``σmax(T)²``)."""
-    if T.shape[-1] == 1:
-        return np.sum(np.abs(T[..., 0]) ** 2, axis=-1)
-    return np.linalg.eigvalsh(_gram(T, T))[:, -1]
 
 
 def _slopes(Cm, Bm, lam, w, second=True):
@@ -122,7 +109,7 @@ def _slopes(Cm, Bm, lam, w, second=True):
 
 
 def _newton(Cm, Bm, lam, w, iterations=30, rtol=1e-13, least=1e-3):
-    """Local maxima of ``σmax(T(jω))²`` from the frequencies ``w``.
+    """Local maxima ``(ω, σmax(T(jω))²)`` from the frequencies ``w``.
 
     Newton's method in a trust interval: a step that does not raise the
     gain is refused and the interval shrinks fourfold; one that does
@@ -173,7 +160,7 @@ def _newton(Cm, Bm, lam, w, iterations=30, rtol=1e-13, least=1e-3):
         active = np.flatnonzero(going)
         if not active.size:
             break
-    return w
+    return w, f
 
 
 def peak_search(lam, V, B, C, extra=(), share=0.5, density=120):
@@ -237,10 +224,8 @@ def peak_search(lam, V, B, C, extra=(), share=0.5, density=120):
     pick = pick[values[pick] >= level]
     near = cubic & (np.maximum(fa, fb) >= level)
     starts = np.concatenate([grid[pick], inner[near], extra])
-    w = _newton(Cm, Bm, lam, starts, least=lo / 10)
-    top = _top(_response(Cm, Bm, lam, w))
+    # (every step Newton takes raises the gain, and the largest sample is
+    # among the starts)
+    w, top = _newton(Cm, Bm, lam, starts, least=lo / 10)
     k = int(np.argmax(top))
-    if top[k] < values.max():           # Newton wandered off: keep the grid
-        k = int(np.argmax(values))
-        return float(np.sqrt(max(values[k], 0.0))), float(grid[k])
     return float(np.sqrt(max(top[k], 0.0))), float(w[k])
