@@ -46,8 +46,9 @@ def test_filter_optimum_matches_the_trade_off_issue():
     pytest.param(5, (0, 1), 1.01, marks=pytest.mark.slow),
     # six poles stacked at -2.5 are computed only to about 0.01 (the
     # returned design holds them that far inside, which costs about 1 %);
-    # seed 2 stopped at 1.043x with one pole map
-    pytest.param(6, (2,), 1.025, marks=pytest.mark.slow),
+    # seed 2 stopped at 1.043x with one pole map, seed 5 at 1.021x
+    # without the draws of more maps at the best gain
+    pytest.param(6, (2, 5), 1.01, marks=pytest.mark.slow),
 ], ids=['N3', 'N5', 'N6'])
 def test_scalar_copies_reach_the_best_filter(copies, seeds, within):
     best = best_filter(copies)
