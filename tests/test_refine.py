@@ -239,6 +239,35 @@ def test_polishing_stops_at_the_floor(monkeypatch):
     assert ran == {'a': 2, 'b': 2}          # above the floor: both run out
 
 
+def test_a_segment_ends_where_it_meets_the_floor():
+    """A polishing segment ends at the first point inside the region at
+    the floor level (``enough``), not at the end of its budget; the norm
+    and decay of the point it stops at are recomputed independently."""
+    import control as ct
+    from controlext.synthesis.objective import Objective
+    prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]],
+                           copies=2)
+    obj = Objective(prob, cx.HalfPlane(0.5), rho=1.0, delta=1e-7)
+    # each copy's own gain with error poles at -2 and -3, no coupling
+    L = ct.place(np.array([[-1.0, -1.0], [1.0, 0.0]]),
+                 np.array([[1.0], [2.0]]), [-2.0, -3.0]).T
+    G0 = np.kron(np.eye(2), L)
+    run = dict(x=G0.ravel(), best=(np.inf, None), rho=None, escalation=0,
+               restart=0, fx=None, value=np.inf, stop=False, result=None)
+    free = refine._polish_step((obj, run, 600, 0, 0, 1e-7, None))
+    # measurement noise only: γ -> 0 as the gain grows; the free segment
+    # passes 1e-2 within its first quarter and goes on far below it
+    assert free['best'][0] < 1e-6
+    obj.reset_best()
+    stopped = refine._polish_step((obj, run, 600, 0, 0, 1e-7, 1e-2))
+    gamma, G = stopped['best']
+    assert 1e-6 < gamma <= 1e-2
+    assert stopped['points'] < free['points'] / 2
+    err = ct.ss(*prob.error_system(G))
+    assert ct.linfnorm(err)[0] == pytest.approx(gamma, rel=1e-8)
+    assert np.max(np.linalg.eigvals(err.A).real) <= -0.5 + 1e-9
+
+
 def test_race_reach_of_shrinking_gains():
     """A run's reach: its last gain for every segment left, or where the
     gains shrink the sum of their geometric continuation (summed here

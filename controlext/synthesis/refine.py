@@ -212,9 +212,11 @@ def _polish_step(args):
     goes on, up to ``escalations`` times.  ``run`` (a dict) carries the
     point, the weight and the best point inside met so far from one call
     to the next; a run that is over (or told to ``stop``) is pushed
-    strictly inside the region and gets its ``result``.
+    strictly inside the region and gets its ``result``.  A segment ends
+    early at a point inside the constraints whose norm is ``enough`` or
+    less (None: no such level).
     """
-    obj, run, maxiter, restarts, escalations, tol = args
+    obj, run, maxiter, restarts, escalations, tol, enough = args
     run = dict(run)
     before = obj.count
     base = obj.rho
@@ -226,7 +228,11 @@ def _polish_step(args):
             if run['fx'] is None:               # an escalation starts
                 run['fx'] = obj(x)[0]
             fx = run['fx']
-            x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=tol / 100)
+            # a point inside at the floor ends the segment: no gain of
+            # any structure does better
+            x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=tol / 100,
+                           stop=None if enough is None else
+                           lambda x, fx: obj.best[0] <= enough)
             run.update(x=x, value=fnew, fx=fnew, restart=run['restart'] + 1)
             if not fnew < fx - tol * abs(fx) or run['restart'] > restarts:
                 if not obj.constrained or \
@@ -258,10 +264,12 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
     ``opts.race_reach``) its remaining segments would not take it more
     than ``opts.race_tie`` ahead of the leader, or when a point inside
     the region within ``opts.floor_tol`` of ``floor`` (a level no gain
-    can beat) has been met.  The result does not depend on the executor.
+    can beat) has been met; the segment that meets such a point ends
+    there.  The result does not depend on the executor.
     """
-    at_floor = floor is not None and \
-        min(best[0] for _, best in screened) <= floor * (1 + opts.floor_tol)
+    enough = None if floor is None else floor * (1 + opts.floor_tol)
+    at_floor = enough is not None and \
+        min(best[0] for _, best in screened) <= enough
     runs = [dict(x=x, best=best, rho=None, escalation=0, restart=0,
                  fx=None, value=np.inf, stop=at_floor,
                  result=None) for x, best in screened]
@@ -272,7 +280,7 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
             break
         for k, run in zip(going, _map(executor, _polish_step, [
                 (obj, runs[k], maxiter, restarts, opts.escalations,
-                 opts.polish_tol)
+                 opts.polish_tol, enough)
                 for k in going])):
             before = runs[k]['value']
             run['previous'] = run.get('gain', np.inf)
@@ -298,7 +306,7 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
                 # whose penalty weight was raised is not judged so: its
                 # values jumped with the weight)
                 run['stop'] = True
-            elif floor is not None and inside <= floor * (1 + opts.floor_tol):
+            elif enough is not None and inside <= enough:
                 # a point inside the region at the floor: no gain of any
                 # structure does better
                 run['stop'] = True
