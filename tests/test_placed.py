@@ -1,13 +1,15 @@
 """Designs whose optimum stacks three or more error poles on the region's
 edge reach it: the N-copy design on the scalar paper plant against the
-best degree-N filter with F(a) = 1 and poles in Re s <= -σ, computed here
-independently (a convex program over the numerator on a frequency grid,
-the poles stacked at -σ)."""
+best degree-N filter with F(a) = 1 and poles in Re s <= -σ, computed
+independently in benchmarks/copies_optimum.py (a convex program over the
+numerator on a frequency grid, the poles stacked at -σ)."""
+
+import pathlib
+import sys
 
 import numpy as np
 import pytest
 import control as ct
-import cvxpy as cp
 import scipy.linalg as la
 
 import controlext as cx
@@ -15,21 +17,11 @@ from controlext.synthesis import ObserverProblem
 from controlext.synthesis.placed import PoleMap
 from test_hinf_observer import PUBLIC, noise_model, riccati_level
 
+sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
+from copies_optimum import best_filter  # noqa: E402
+
 SCALAR = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
 SECOND = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]], 0)
-
-
-def best_filter(N, a=-0.5, sigma=2.5):
-    """min ‖p/q‖∞ over p of degree < N with p(a) = q(a), q = (s + σ)^N."""
-    w = np.concatenate([[0.0], np.logspace(-3, 4, 4000)])
-    s = 1j * w
-    V = np.stack([s**k for k in range(N)], axis=1) / ((s + sigma)**N)[:, None]
-    c, g = cp.Variable(N), cp.Variable()
-    cp.Problem(cp.Minimize(g), [
-        cp.norm(cp.vstack([V.real @ c, V.imag @ c]), 2, axis=0) <= g,
-        sum(c[k] * a**k for k in range(N)) == (a + sigma)**N,
-    ]).solve(solver=cp.CLARABEL)
-    return float(g.value)
 
 
 def test_filter_optimum_matches_the_trade_off_issue():
