@@ -56,7 +56,7 @@ when it is within ``RACE_TIE`` of the first one's result by then.
 How far a cluster of six poles splits when its gain is rounded depends on
 the map's ``(F, h)``, not only on the poles: at ``N = 6`` the computed
 excess of one search ranged from 0.001 to 0.02, and the result lost about
-as much (1.006–1.021× the best filter over seeds 0–7).  Where the best
+as much (1.006–1.021× the best filter over seeds 0–5).  Where the best
 result has ``CLUSTER`` or more poles near the edge and was held inside by
 more than ``HOLD``, ``DRAWS`` more maps are drawn at its gain (a new ``h``
 each, ``F`` at the best gain), and the best result is kept: 1.006–1.009×
@@ -341,7 +341,6 @@ def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4,
                 best = out[2]
                 if enough is not None and best[0] <= enough:
                     break
-    return best
     return best
 
 
