@@ -14,7 +14,7 @@ import controlext as cx
 from controlext.exceptions import (ArgumentError, ControlextError,
                                    ParameterError)
 from controlext.synthesis import ObserverProblem
-from controlext.synthesis.criteria import Criteria, h2_norm
+from controlext.synthesis.criteria import Criteria, h2_norm, h2_parts
 from controlext.synthesis.objective import Objective
 
 # the README's plant with process noise on both states and sensor noise
@@ -212,6 +212,23 @@ def test_h2_norm_closed_form():
     assert h2_norm([[-2.0]], [[1.0]], [[1.0]]) == pytest.approx(0.5)
     assert h2_norm([[0.5]], [[1.0]], [[1.0]], dt=1) == \
         pytest.approx(np.sqrt(4 / 3))
+
+
+def test_h2_of_poles_on_the_axis_to_working_precision():
+    """Poles at -1e-17 ± j sum to zero in floating point: the H2 norm is
+    inf (with its gradient) and scipy's 'perturbed coefficients' warning
+    does not reach the user; at -1e-3 ± j it is python-control's value,
+    sqrt(1 / (4 · 1e-3)) to first order."""
+    B, C = np.array([[0.0], [1.0]]), np.array([[1.0, 0.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        A = np.array([[-1e-17, 1.0], [-1.0, -1e-17]])
+        assert h2_norm(A, B, C) == np.inf
+        assert h2_parts(A, B, C)[0] == np.inf
+        A = np.array([[-1e-3, 1.0], [-1.0, -1e-3]])
+        near = h2_norm(A, B, C)
+    assert near == pytest.approx(ct.norm(ct.ss(A, B, C, 0), 2), rel=1e-9)
+    assert near == pytest.approx(np.sqrt(1 / 4e-3), rel=1e-3)
 
 
 def test_sweep_of_max_hinf_holds_every_bound():

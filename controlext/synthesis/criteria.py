@@ -38,6 +38,7 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -179,7 +180,19 @@ def gramian(A: np.ndarray, Q: np.ndarray, dt: float = 0) -> np.ndarray:
     """``P`` with ``A P + P Aᵀ + Q = 0`` (``A P Aᵀ − P + Q = 0`` when
     ``dt``) for a stable ``A``."""
     if not dt:
-        return la.solve_continuous_lyapunov(A, -Q)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter('always')
+            P = la.solve_continuous_lyapunov(A, -Q)
+        marginal = False
+        for w in caught:
+            if 'eigenvalue pair' in str(w.message):
+                # two poles sum to zero to working precision: both on the
+                # imaginary axis, where the Gramian is unbounded (scipy
+                # would perturb the equation and warn)
+                marginal = True
+            else:
+                warnings.warn(w.message, w.category, stacklevel=2)
+        return np.full_like(P, np.inf) if marginal else P
     try:
         return la.solve_discrete_lyapunov(A, Q)
     except np.linalg.LinAlgError:
@@ -198,6 +211,8 @@ def h2_norm(A, B, C, dt: float = 0) -> float:
     if not stable_poles(la.eigvals(A), dt):
         return float('inf')
     P = gramian(A, B @ B.T, dt)
+    if not np.all(np.isfinite(P)):
+        return float('inf')
     return float(np.sqrt(max(np.trace(C @ P @ C.T), 0.0)))
 
 
@@ -207,6 +222,9 @@ def h2_parts(A: np.ndarray, B: np.ndarray, C: np.ndarray, dt: float = 0,
     ``(A, B, C, 0)`` (the derivatives None without ``gradient``; zero
     where ``h = 0``, a minimum)."""
     Q = gramian(A.T, C.T @ C, dt)
+    if not np.all(np.isfinite(Q)):
+        return np.inf, (np.zeros_like(A) if gradient else None), \
+            (np.zeros_like(B) if gradient else None)
     J = float(np.sum(B * (Q @ B)))
     h = float(np.sqrt(max(J, 0.0)))
     if not gradient:
@@ -214,5 +232,7 @@ def h2_parts(A: np.ndarray, B: np.ndarray, C: np.ndarray, dt: float = 0,
     if h == 0.0 or not np.isfinite(h):
         return h, np.zeros_like(A), np.zeros_like(B)
     P = gramian(A, B @ B.T, dt)
+    if not np.all(np.isfinite(P)):
+        return np.inf, np.zeros_like(A), np.zeros_like(B)
     dA = Q @ (A @ P if dt else P)
     return h, dA / h, (Q @ B) / h

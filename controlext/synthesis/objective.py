@@ -248,8 +248,8 @@ class Objective:
             out['hinf'] = self._hinf(Acl, Bcl, lam, tol, V)
         if 'h2' in names:
             out['h2'] = (np.inf, None) if not stable_poles(lam, self.dt) \
-                else (
-                h2_parts(Acl, Bcl, self.Ccl, self.dt)[0], None)
+                else (h2_parts(Acl, Bcl, self.Ccl, self.dt,
+                               gradient=False)[0], None)
         return out
 
     def _gradient(self, name, Acl, Bcl, norms):
