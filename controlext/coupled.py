@@ -166,7 +166,13 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     ``K_i = L0``, ``L_i = 0`` (with ``L0`` the refined one-copy design of
     the same problem, as :func:`hinf_observer` returns it), and seeded
     perturbations of both.  The result is therefore never worse
-    than the best Luenberger observer found for the same region.
+    than the best Luenberger observer found for the same region.  With
+    three or more copies and equal weights, the design of ``copies − 1``
+    (made the same way) is grown to ``copies`` — the last copy tracks the
+    others' average (:meth:`ObserverProblem.grow
+    <controlext.synthesis.ObserverProblem.grow>`) — and is a candidate
+    too, so more copies are never worse (within the 0.1 % to which
+    designs count as equal).
 
     The convex stage is, by default (``method='auto'``), the n-state
     Luenberger LMI embedded as ``K_i = L0``, ``L_i = 0``: it has the same γ

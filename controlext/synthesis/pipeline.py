@@ -161,6 +161,27 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
     return cls.from_problem(problem, G, report=report, **system)
 
 
+def _one_copy(problem, region, options, convex, bound, floor):
+    """The one-copy design ``(G, report)`` of a problem of copies, a
+    start for them (without the limits where no one-copy design meets
+    them)."""
+    single = options if options.method != 'lmi' else \
+        options.replace(method='auto')
+    one_bound = None if bound is None else (bound[0], bound[1][:problem.n])
+    try:
+        return synthesise(problem.single(), region, single,
+                          convex=convex.luenberger, bound=one_bound,
+                          floor=floor)
+    except VerificationError:
+        if not options.criteria.limits:
+            raise
+        # no one-copy design meets the limits: the one without them is
+        # still a start for the copies
+        return synthesise(problem.single(), region, single.replace(
+            settling_time=None, gain_tolerance=None),
+            convex=convex.luenberger, bound=one_bound, floor=floor)
+
+
 def check_problem(problem, region, what='plant'):
     """Refuse a problem no gain can solve: an unstable mode unobservable
     from the measurements, or an unobservable mode outside the region."""
@@ -205,7 +226,7 @@ def _scales(problem, region):
 
 
 def synthesise(problem, region, options, convex=None, check=None,
-               bound=None, floor=None):
+               bound=None, floor=None, single=None):
     """Convex stage, refinement where it is conservative, verification.
 
     Parameters
@@ -229,6 +250,9 @@ def synthesise(problem, region, options, convex=None, check=None,
         The problem's unconstrained filter level
         (:func:`~controlext.synthesis.floor.filter_floor`, computed here
         when not given): a design at it is not refined further.
+    single : (ndarray, DesignReport), optional
+        The one-copy design of ``problem``, when already made (a design of
+        ``N`` copies makes it once and passes it to that of ``N − 1``).
 
     Returns
     -------
@@ -352,23 +376,12 @@ def synthesise(problem, region, options, convex=None, check=None,
             pass
         else:
             starts.append((f'max_gain={looser[0]:.3g}', Gl))
+    grown = []
     if problem.copies > 1:
-        single = options if options.method != 'lmi' else \
-            options.replace(method='auto')
-        one_bound = None if bound is None else (bound[0],
-                                                bound[1][:problem.n])
-        try:
-            G1, rep1 = synthesise(problem.single(), region, single,
-                                  convex=convex.luenberger, bound=one_bound,
-                                  floor=floor)
-        except VerificationError:
-            if not criteria.limits:
-                raise
-            # no one-copy design meets the limits: the one without them
-            # is still a start for the copies
-            G1, rep1 = synthesise(problem.single(), region, single.replace(
-                settling_time=None, gain_tolerance=None),
-                convex=convex.luenberger, bound=one_bound, floor=floor)
+        if single is None:
+            single = _one_copy(problem, region, options, convex, bound,
+                               floor)
+        G1, rep1 = single
         starts.append(('luenberger', problem.embed(G1)))
         stats.update(luenberger_hinf=rep1.hinf)
         one = criteria.value(rep1)
@@ -388,6 +401,26 @@ def synthesise(problem, region, options, convex=None, check=None,
                 del stats['headroom']
             else:
                 return problem.embed(G1), report
+        if problem.copies > 2 and np.allclose(problem.weights,
+                                              1 / problem.copies):
+            # N copies can run any design of N − 1 (the last tracking
+            # their average): the best of N − 1 is a candidate, so that
+            # more copies are never worse (quadruple tank, N = 3: 1.614
+            # against 1.595 for N = 2 without it).  Not a start: it leads
+            # the polishing race early and ends in a worse basin (scalar
+            # plant N = 6 up to 1.56x the best filter, second order N = 3
+            # up to 4.6x)
+            fewer = problem.replace(copies=problem.copies - 1)
+            try:
+                Gf, _ = synthesise(fewer, region, options, bound=None if
+                                   bound is None else (bound[0], bound[1][
+                                       :fewer.copies * problem.n]),
+                                   floor=floor, single=single)
+            except (VerificationError, SolverError):
+                pass
+            else:
+                grown.append((problem.grow(Gf, G1),
+                              f'{fewer.copies} copies'))
     try:
         res = refine_gain(problem, region, starts,
                           options=options.refine_options, seed=options.seed,
@@ -404,7 +437,7 @@ def synthesise(problem, region, options, convex=None, check=None,
                                evaluations=res.evaluations, time=res.time,
                                phases=res.phases)
         candidates = [(res.G, 'refined')]
-    candidates += [(G, label) for label, G in starts[1:]]
+    candidates += [(G, label) for label, G in starts[1:]] + grown
     method = f'{convex.method}+refine'
     verified, refused = [], []
     for Gc, stage, facts in [(convex.G, convex.stage, dict(

@@ -263,6 +263,29 @@ class ObserverProblem:
         the same Luenberger observer and the average equals it."""
         return np.kron(np.eye(self.copies), np.asarray(L, dtype=float))
 
+    def grow(self, G: ArrayLike, L: ArrayLike) -> Array:
+        """The gain of these ``N`` copies that has the H∞ and H2 norms of an
+        ``(N − 1)``-copy gain ``G`` (equal weights): the first ``N − 1``
+        copies run ``G``, and the last tracks their average, with the
+        deviation ``δ`` from it obeying ``δ' = (A − L C) δ`` for the
+        one-copy gain ``L``.  Its innovation gains are the average of the
+        others' minus ``L/(N − 1)``, plus ``L`` on its own, so no noise
+        reaches ``δ``; the average of all ``N`` errors is that of the
+        ``N − 1`` plus ``δ/N``, and the error poles are those of ``G`` and
+        of ``A − L C``."""
+        G = np.asarray(G, dtype=float)
+        L = np.asarray(L, dtype=float)
+        N, n, p = self.copies, self.n, self.p
+        M = N - 1
+        out = np.zeros((N * n, N * p))
+        out[:M * n, :M * p] = G
+        for k in range(M):
+            cols = slice(k * p, (k + 1) * p)
+            out[M * n:, cols] = G[:, cols].reshape(M, n, p).mean(axis=0) \
+                - L / M
+        out[M * n:, M * p:] = L
+        return out
+
     def replace(self, **changes: Any) -> ObserverProblem:
         """A copy with some fields changed."""
         fields = dict(A=self.A, C=self.C, Bw=self.Bw, Dw=self.Dw, Cz=self.Cz,
