@@ -167,7 +167,7 @@ def _one_copy(problem, region, options, convex, bound, floor):
     them)."""
     single = options if options.method != 'lmi' else \
         options.replace(method='auto')
-    one_bound = None if bound is None else (bound[0], bound[1][:problem.n])
+    one_bound = _first_rows(bound, problem.n)
     try:
         return synthesise(problem.single(), region, single,
                           convex=convex.luenberger, bound=one_bound,
@@ -180,6 +180,12 @@ def _one_copy(problem, region, options, convex, bound, floor):
         return synthesise(problem.single(), region, single.replace(
             settling_time=None, gain_tolerance=None),
             convex=convex.luenberger, bound=one_bound, floor=floor)
+
+
+def _first_rows(bound, rows):
+    """The gain bound ``(κ, weights)`` of the problem whose gain is the
+    first ``rows`` rows (fewer copies; None stays None)."""
+    return None if bound is None else (bound[0], bound[1][:rows])
 
 
 def check_problem(problem, region, what='plant'):
@@ -412,9 +418,9 @@ def synthesise(problem, region, options, convex=None, check=None,
             # up to 4.6x)
             fewer = problem.replace(copies=problem.copies - 1)
             try:
-                Gf, _ = synthesise(fewer, region, options, bound=None if
-                                   bound is None else (bound[0], bound[1][
-                                       :fewer.copies * problem.n]),
+                Gf, _ = synthesise(fewer, region, options,
+                                   bound=_first_rows(
+                                       bound, fewer.copies * problem.n),
                                    floor=floor, single=single)
             except (VerificationError, SolverError):
                 pass

@@ -76,9 +76,10 @@ __all__ = ['PoleMap', 'placed_polish']
 RACE_TIE = 0.05
 
 #: a result held inside the region by more than this (relative to the
-#: edge's scale) and with ``CLUSTER`` or more poles next to the edge gets
-#: ``DRAWS`` more maps drawn at its gain
+#: edge's scale) and with ``CLUSTER`` or more poles within ``NEAR`` of
+#: the edge (relative likewise) gets ``DRAWS`` more maps drawn at its gain
 HOLD = 1e-3
+NEAR = 3e-2
 CLUSTER = 5
 DRAWS = 16
 
@@ -328,8 +329,10 @@ def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4,
     # realisation splits it, which depends on the map's (F, h): where
     # the best result is such a cluster, held in, more maps are drawn at
     # its gain and the best result kept
-    if best is not None and held > HOLD * _scale(edges[0]) and \
-            _cluster(obj, region, best[1]) >= CLUSTER:
+    scale = _scale(edges[0])
+    if best is not None and held > HOLD * scale and near_edge(
+            region, np.linalg.eigvals(obj.Ae - best[1] @ obj.Ce),
+            NEAR * scale) >= CLUSTER:
         for _ in range(DRAWS):
             try:
                 pmap = PoleMap(obj.prob, edges[0], best[1], rng)
@@ -406,12 +409,10 @@ def _scale(edge):
     return radius if kind == 'circle' else max(abs(center), radius)
 
 
-def _cluster(obj, region, G, tol=3e-2):
-    """How many error poles of ``G`` lie within ``tol`` times the edge's
-    scale (:func:`_scale`) of the region's edge."""
-    lam = np.linalg.eigvals(obj.Ae - G @ obj.Ce)
-    return int(np.count_nonzero(region.margins(lam).max(axis=1) >=
-                                -tol * _scale(region.edges()[0])))
+def near_edge(region, lam, width):
+    """How many of the poles ``lam`` lie within ``width`` of the edge of
+    ``region`` (or outside it)."""
+    return int(np.count_nonzero(region.margins(lam).max(axis=1) >= -width))
 
 
 def _without_region(obj):

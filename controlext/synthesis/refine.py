@@ -44,7 +44,7 @@ from .bfgs import bfgs
 from ..exceptions import VerificationError
 from .objective import Objective
 from .options import RefineOptions
-from .placed import placed_polish
+from .placed import near_edge, placed_polish
 from .verify import REGION_TOL
 
 try:
@@ -335,8 +335,7 @@ def _clustered(obj, G, tol=1e-2):
     stage.)"""
     lam = np.linalg.eigvals(obj.Ae - G @ obj.Ce)
     scale = max(1.0, float(np.max(np.abs(lam))))
-    near = obj.region.margins(lam).max(axis=1) >= -tol * scale
-    return int(np.count_nonzero(near)) >= 3
+    return near_edge(obj.region, lam, tol * scale) >= 3
 
 
 def _rate_scale(problem, G):
