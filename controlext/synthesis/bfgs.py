@@ -28,7 +28,7 @@ import numpy as np
 __all__ = ['bfgs']
 
 
-def bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7):
+def bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7, creep=None):
     """BFGS with a weak-Wolfe bisection line search (Lewis & Overton).
 
     ``f(x, grad=True)`` returns ``(value, gradient)`` (``(value, None)``
@@ -37,7 +37,10 @@ def bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7):
     sufficient-decrease test.  ``stop(x, fx)`` ends the run early when it
     returns True; the run also ends when ``stall`` iterations improved
     ``f`` by less than ``stall_tol`` (relative): on a nonsmooth objective
-    BFGS otherwise keeps creeping towards the kink.
+    BFGS otherwise keeps creeping towards the kink.  ``creep = (steps,
+    rtol)`` adds a longer window: the run ends when ``steps`` iterations
+    improved ``f`` by less than ``rtol`` (a slow steady creep, which the
+    short window never sees stall).
     """
     x = np.array(x0, dtype=float)
     fx, gx = f(x)
@@ -51,6 +54,9 @@ def bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7):
             break
         if len(history) > stall and \
                 history[-stall - 1] - fx <= stall_tol * abs(fx):
+            break
+        if creep is not None and len(history) > creep[0] and \
+                history[-creep[0] - 1] - fx <= creep[1] * abs(fx):
             break
         d = -H @ gx
         if gx @ d >= 0:
