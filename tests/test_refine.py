@@ -281,3 +281,86 @@ def test_race_reach_of_shrinking_gains():
         pytest.approx(0.04)
     assert refine._reach(dict(gain=0.004, previous=np.inf), 10) == \
         pytest.approx(0.04)
+
+
+def test_the_long_window_ends_a_creeping_run():
+    """``creep=(steps, rtol)``: BFGS on ``1 + 1/(1 + x²)``, whose minimum
+    is at infinity, gains less and less per step; the run ends at the
+    first step where the last ``steps`` gained less than ``rtol``,
+    checked here on the values it accepted (``stop`` sees each)."""
+    from controlext.synthesis.bfgs import bfgs
+
+    def f(x, grad=True, above=None):
+        value = 1.0 + 1.0 / (1.0 + x[0] ** 2)
+        return value, (np.array([-2 * x[0] / (1 + x[0] ** 2) ** 2])
+                       if grad else None)
+
+    def creeps(values, k, steps=5, rtol=1e-3):
+        return k >= steps and \
+            values[k - steps] - values[k] <= rtol * values[k]
+
+    free, accepted = [], []
+    bfgs(f, np.array([1.0]), 60, stall=1000,
+         stop=lambda x, fx: free.append(fx) and False)
+    _, value = bfgs(f, np.array([1.0]), 60, stall=1000, creep=(5, 1e-3),
+                    stop=lambda x, fx: accepted.append(fx) and False)
+    end = len(accepted) - 1
+    assert value == accepted[end]
+    assert creeps(accepted, end)
+    assert not any(creeps(accepted, k) for k in range(end))
+    # the same path as without the window, cut short
+    assert accepted == free[:end + 1] and len(free) > end + 1
+    assert value < 1.0 + 1e-2
+
+
+def test_the_run_that_meets_the_floor_ends_its_round(monkeypatch):
+    """Runs go in order of their values, and the first to meet the floor
+    ends the round: the later runs' segments are not computed without an
+    executor, and are dropped with one, so the result is the same."""
+    import control as ct
+    from controlext.synthesis.objective import Objective
+    prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]],
+                           copies=2)
+    obj = Objective(prob, cx.HalfPlane(0.5), rho=1.0, delta=1e-7)
+    L = ct.place(np.array([[-1.0, -1.0], [1.0, 0.0]]),
+                 np.array([[1.0], [2.0]]), [-2.0, -3.0]).T
+    G0 = np.kron(np.eye(2), L)
+    # measurement noise only: γ -> 0 as the gain grows, so both starts
+    # reach the level 1e-2 taken as the floor within one segment
+    screened = [(G0.ravel(), (np.inf, None)),
+                (1.5 * G0.ravel(), (np.inf, None))]
+    calls = []
+    step = refine._polish_step
+
+    def counted(args):
+        calls.append(args[1]['stop'])
+        return step(args)
+
+    monkeypatch.setattr(refine, '_polish_step', counted)
+
+    class Eager:
+        """An executor that computes every call, in order."""
+
+        def map(self, fn, args):
+            return list(map(fn, args))
+
+    opts = RefineOptions()
+    results = {}
+    for name, executor in (('serial', None), ('eager', Eager())):
+        calls.clear()
+        obj.reset_best()
+        results[name] = refine._polish(executor, obj, screened, 600, 3,
+                                       opts, floor=1e-2)[0]
+        results[name + ' calls'] = list(calls)
+    # serial: the first run's segment meets the floor, the second's is
+    # never computed; then both are finished
+    assert results['serial calls'] == [False, True, True]
+    assert results['eager calls'] == [False, False, True, True]
+    for (g1, G1), (g2, G2) in zip(results['serial'], results['eager']):
+        assert g1 == g2
+        np.testing.assert_array_equal(G1, G2)
+    gamma, G = min(results['serial'], key=lambda item: item[0])
+    assert gamma <= 1e-2 * (1 + opts.floor_tol)
+    err = ct.ss(*prob.error_system(G))
+    assert ct.linfnorm(err)[0] == pytest.approx(gamma, rel=1e-8)
+    assert np.max(np.linalg.eigvals(err.A).real) <= -0.5 + 1e-9

@@ -271,23 +271,31 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
     at_floor = enough is not None and \
         min(best[0] for _, best in screened) <= enough
     runs = [dict(x=x, best=best, rho=None, escalation=0, restart=0,
-                 fx=None, value=np.inf, stop=at_floor,
+                 fx=None, value=np.inf, gain=np.inf, previous=np.inf,
+                 stop=at_floor,
                  result=None) for x, best in screened]
     points = 0
     while True:
-        going = [k for k, run in enumerate(runs) if run['result'] is None]
+        # the leader goes first: the run that meets the floor in a round
+        # ends it, the later runs' segments being dropped (never computed
+        # without an executor)
+        going = sorted((k for k, run in enumerate(runs)
+                        if run['result'] is None),
+                       key=lambda k: runs[k]['value'])
         if not going:
             break
         for k, run in zip(going, _map(executor, _polish_step, [
                 (obj, runs[k], maxiter, restarts, opts.escalations,
                  opts.polish_tol, enough)
                 for k in going])):
-            before = runs[k]['value']
-            run['previous'] = run.get('gain', np.inf)
+            before, segment = runs[k]['value'], not runs[k]['stop']
+            run['previous'] = run['gain']
             run['gain'] = (before - run['value']) / abs(run['value']) \
                 if np.isfinite(before) else np.inf
             runs[k] = run
             points += run['points']
+            if segment and enough is not None and run['best'][0] <= enough:
+                break
         lead = min(run['value'] for run in runs)
         inside = min(run['best'][0] for run in runs)
         for run in runs:
