@@ -111,7 +111,9 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
     if bound is not None:
         norm = _bounded_norm(bound, G)
         report.stats['max_gain'] = dict(bound=bound[0], norm=norm)
-        if options.max_gain == 'auto' and norm >= 0.999 * bound[0]:
+        if options.max_gain == 'auto' and \
+                0.999 * bound[0] <= norm <= bound[0] * (1 + 1e-6):
+            # (above the bound only with refine=False, which said so)
             warnings.warn(
                 f"the gain is held at the default bound max_gain='auto' "
                 f"(1e6 times the plant's scale; γ = {report.hinf:.6g}): "
