@@ -47,6 +47,11 @@ import scipy.linalg as la
 from .._checks import check_choice, check_number
 from ..exceptions import ArgumentError
 
+try:
+    from slycot import sb03md57 as _sb03md
+except ImportError:         # pragma: no cover - a required dependency
+    _sb03md = None
+
 __all__ = ['Criteria', 'OBJECTIVES', 'h2_norm', 'h2_parts', 'NAMES']
 
 #: the norms a design may minimise
@@ -157,23 +162,40 @@ def stable_poles(lam, dt=0) -> bool:
         bool(np.all(lam.real < 0))
 
 
-def _stein_doubling(A: np.ndarray, Q: np.ndarray,
-                    steps: int = 200) -> np.ndarray:
-    """``P = Σ_k A^k Q A^kᵀ`` (the solution of ``A P Aᵀ − P + Q = 0`` for a
-    Schur-stable ``A``) by Smith's doubling, ``P ← P + A P Aᵀ, A ← A²``:
-    no inverse, so it holds where ``A + I`` is singular to rounding; an
-    overflow (transient growth beyond the floats) gives ``inf``."""
-    P = Q.copy()
-    with np.errstate(over='ignore', invalid='ignore'):
-        for _ in range(steps):
-            step = A @ P @ A.T
-            P = P + step
-            A = A @ A
-            if not np.all(np.isfinite(P)):
-                return np.full_like(P, np.inf)
-            if np.linalg.norm(step) <= 1e-16 * np.linalg.norm(P):
-                break
-    return P
+def _stein(A: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """``P`` with ``A P Aᵀ − P + Q = 0`` for a Schur-stable ``A``:
+    SLICOT's ``SB03MD`` (Bartels–Stewart on the real Schur form), or the
+    same in the complex Schur form where slycot raises."""
+    if _sb03md is not None:
+        n = A.shape[0]
+        try:
+            # op(A)ᵀ X op(A) − X = scale · C with op(A) = Aᵀ, C = −Q
+            out = _sb03md(np.array(A, dtype=float), np.zeros((n, n)),
+                          -np.array(Q, dtype=float), 'D', job='X',
+                          fact='N', trana='T')
+        except Exception:       # slycot raised: the fallback below
+            pass
+        else:
+            X, scale = out[2], out[3]
+            return (X + X.T) / (2 * scale)
+    return _stein_schur(A, Q)
+
+
+def _stein_schur(A: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """``P`` with ``A P Aᵀ − P + Q = 0`` for a Schur-stable ``A``, in the
+    complex Schur form ``A = Z T Zᴴ``: column ``j`` of ``Y = Zᴴ P Z``
+    solves the triangular system ``(I − conj(t_jj) T) y_j = q̃_j +
+    T Σ_{l>j} conj(t_jl) y_l``, last column first."""
+    T, Z = la.schur(np.asarray(A, dtype=complex), output='complex')
+    Qt = Z.conj().T @ Q @ Z
+    n = T.shape[0]
+    Y = np.zeros((n, n), dtype=complex)
+    eye = np.eye(n)
+    for j in range(n - 1, -1, -1):
+        rhs = Qt[:, j] + T @ (Y[:, j + 1:] @ T[j, j + 1:].conj())
+        Y[:, j] = la.solve_triangular(eye - np.conj(T[j, j]) * T, rhs)
+    P = (Z @ Y @ Z.conj().T).real
+    return (P + P.T) / 2
 
 
 def gramian(A: np.ndarray, Q: np.ndarray, dt: float = 0) -> np.ndarray:
@@ -193,13 +215,10 @@ def gramian(A: np.ndarray, Q: np.ndarray, dt: float = 0) -> np.ndarray:
             else:
                 warnings.warn(w.message, w.category, stacklevel=2)
         return np.full_like(P, np.inf) if marginal else P
-    try:
-        return la.solve_discrete_lyapunov(A, Q)
-    except np.linalg.LinAlgError:
-        # scipy's bilinear route inverts A + I, which a far from normal
-        # A (a fragile campaign design: ‖A‖ 6e8) makes singular to
-        # rounding though its spectrum is far from -1
-        return _stein_doubling(A, Q)
+    # in the Schur form: on far from normal error matrices scipy's solvers
+    # lose what it keeps (its Kronecker solve squares the conditioning,
+    # its bilinear route inverts A + I)
+    return _stein(A, Q)
 
 
 def h2_norm(A, B, C, dt: float = 0) -> float:
