@@ -250,6 +250,30 @@ def test_discrete_gramian_of_far_from_normal_matrices(seed, solver,
     assert np.min(np.linalg.eigvalsh(P)) > 0.99        # P >= Q = I
 
 
+def test_h2_of_a_design_in_mixed_units():
+    """The second-order plant with its states in units 1e-3 and 1e3: the
+    H∞ design's error matrix has ‖A‖ 1.3e6 and poles -1 ± 0.35j, which
+    scipy's Lyapunov solver took for a pair summing to zero (the report
+    said H2 = inf).  Against the energy of the impulse response, summed
+    on a grid of exact steps e^{A h}."""
+    import scipy.linalg as la
+    T = np.diag([1e-3, 1e3])
+    A = np.array([[-1.0, 1.0], [-1.0, 0.0]])
+    plant = ct.ss(T @ A @ np.linalg.inv(T), T @ [[0.0], [1.0]],
+                  np.array([[1.0, 2.0]]) @ np.linalg.inv(T), 0)
+    obs = cx.hinf_observer(plant, decay=1.0)
+    Ae, Be, Ce = (np.asarray(M) for M in (obs.A, obs.B, obs.C))
+    assert np.linalg.norm(Ae, 2) > 1e5
+    h, steps = 1e-3, 40000                      # 40 s: e^{-40} is nothing
+    Phi, x = la.expm(Ae * h), Be.copy()
+    energy = np.empty(steps + 1)
+    for k in range(steps + 1):
+        energy[k] = np.sum((Ce @ x) ** 2)
+        x = Phi @ x
+    assert obs.report.tradeoff.h2 == pytest.approx(
+        np.sqrt(h * (energy.sum() - (energy[0] + energy[-1]) / 2)), rel=1e-5)
+
+
 def test_h2_of_poles_on_the_axis_to_working_precision():
     """Poles at -1e-17 ± j sum to zero in floating point: the H2 norm is
     inf (with its gradient) and scipy's 'perturbed coefficients' warning

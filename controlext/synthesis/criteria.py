@@ -200,7 +200,21 @@ def _stein_schur(A: np.ndarray, Q: np.ndarray) -> np.ndarray:
 
 def gramian(A: np.ndarray, Q: np.ndarray, dt: float = 0) -> np.ndarray:
     """``P`` with ``A P + P Aᵀ + Q = 0`` (``A P Aᵀ − P + Q = 0`` when
-    ``dt``) for a stable ``A``."""
+    ``dt``) for a stable ``A``, solved on the balanced ``D⁻¹ A D`` (``D``
+    diagonal, powers of 2): the solvers judge the poles against ``‖A‖``,
+    which states in mixed units inflate (a design for the second-order
+    plant in states scaled by 1e-3 and 1e3, ‖A‖ 1.3e6, poles -1 ± 0.35j:
+    scipy took its poles for a pair summing to zero, and its Gramian had
+    a negative diagonal)."""
+    A = np.asarray(A, dtype=float)
+    if A.size:
+        A, (d, _) = la.matrix_balance(A, permute=False, separate=True)
+        P = _gramian(A, np.asarray(Q) / np.outer(d, d), dt)
+        return P * np.outer(d, d)
+    return _gramian(A, Q, dt)
+
+
+def _gramian(A, Q, dt):
     if not dt:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter('always')
