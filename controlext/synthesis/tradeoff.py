@@ -154,12 +154,13 @@ def transient(problem: ObserverProblem, G: ArrayLike, points: int = 800
         if env[-1] <= band and env[-max(2, times.size // 8):].max() <= band:
             break
         horizon *= 2
+    peak = _peak(Acl, Ccl, states, env, times, dt, stride if dt else 1)
     above = np.nonzero(env > band)[0]
     if above.size == 0:
-        return float(env.max()), 0.0
+        return peak, 0.0
     last = above[-1]
     if last + 1 >= times.size:
-        return float(env.max()), float('inf')
+        return peak, float('inf')
     if dt:
         # single steps across the crossing's stride
         X, settle = states[last], times[last + 1]
@@ -183,7 +184,30 @@ def transient(problem: ObserverProblem, G: ArrayLike, points: int = 800
         prev, val = vals[j - 1], vals[j]
         settle = times[last] + h * (j - (band - val) / (prev - val)
                                     if prev > val else j)
-    return float(env.max()), float(settle)
+    return peak, float(settle)
+
+
+def _peak(Acl, Ccl, states, env, times, dt, stride, sub=256):
+    """The envelope's largest value: its largest sample, refined over the
+    intervals on either side (sampled only, the double integrator's pair
+    read 1.0439 for 1.0487): every step in discrete time, ``sub`` steps
+    per interval in continuous time."""
+    i = int(np.argmax(env))
+    lo, hi = max(i - 1, 0), min(i + 1, times.size - 1)
+    if dt and stride == 1 or hi == lo:
+        return float(env[i])
+    if dt:
+        count, Phi = stride * (hi - lo), Acl
+    else:
+        count = sub * (hi - lo)
+        Phi = la.expm(Acl * (times[1] - times[0]) / sub)
+    fine = np.empty((count + 1,) + states[lo].shape)
+    fine[0] = states[lo]
+    with np.errstate(over='ignore', invalid='ignore'):
+        for j in range(count):
+            fine[j + 1] = Phi @ fine[j]
+        vals = np.linalg.svd(Ccl @ fine, compute_uv=False)[:, 0]
+    return float(max(env[i], np.max(vals)))
 
 
 def decay_sensitivity(problem: ObserverProblem, G: ArrayLike,
