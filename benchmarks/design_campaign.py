@@ -12,7 +12,8 @@ a time limit.  Each returned design is judged without the package's
 verification code: the error system is rebuilt from the plant and the
 returned gain by hand; its poles must lie in the region (the region's own
 formula); its H∞ norm, by a dense grid refined at the peak and by
-``control.linfnorm``, must match ``obs.hinf``; in discrete time the
+``control.linfnorm``, must match ``obs.hinf``, and python-control's H2
+norm the trade-off report's; in discrete time the
 estimator, run against the plant with noise, must give the error of the
 rebuilt error system.
 
@@ -282,6 +283,16 @@ def judge(case, obs):
             abs(attained - obs.hinf) > rtol * scale + 1e-9:
         return (f'norm {obs.hinf:.6g} vs grid {grid:.6g} / linfnorm '
                 f'{lin:.6g} / at its peak {attained:.6g}')
+    # the report's H2 norm against python-control's (its own Lyapunov
+    # solve, on the rebuilt error system in the plant's units); a GI
+    # design's is 0 up to rounding, judged against the noise's size
+    h2 = ct.norm(sys_, 2)
+    size = np.linalg.norm(Ccl, 2) * (
+        np.linalg.norm(obs.problem.plant_Bw, 2) + np.linalg.norm(
+            obs.G, 2) * np.linalg.norm(obs.problem.plant_Dw, 2))
+    if not abs(obs.report.tradeoff.h2 - h2) <= 1e-6 * h2 + 1e-8 * size:
+        return (f'H2 norm {obs.report.tradeoff.h2:.6g} vs python-control '
+                f'{h2:.6g}')
     if case['dt']:
         # the estimator against the plant, with noise, is the error system
         plant = ct.ss(case['A'], case['B'], case['C'], 0, case['dt'])
