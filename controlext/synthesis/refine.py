@@ -265,7 +265,9 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
     than ``opts.race_tie`` ahead of the leader, or when a point inside
     the region within ``opts.floor_tol`` of ``floor`` (a level no gain
     can beat) has been met; the segment that meets such a point ends
-    there.  The result does not depend on the executor.
+    there, and so does its round (the runs go in order of their values,
+    the later ones' segments dropped).  The result does not depend on
+    the executor.
     """
     enough = None if floor is None else floor * (1 + opts.floor_tol)
     at_floor = enough is not None and \
