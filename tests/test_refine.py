@@ -239,19 +239,35 @@ def test_polishing_stops_at_the_floor(monkeypatch):
     assert ran == {'a': 2, 'b': 2}          # above the floor: both run out
 
 
-def test_a_segment_ends_where_it_meets_the_floor():
-    """A polishing segment ends at the first point inside the region at
-    the floor level (``enough``), not at the end of its budget; the norm
-    and decay of the point it stops at are recomputed independently."""
+def _paper_pair():
+    """The paper's second-order pair with measurement noise only (γ -> 0
+    as the gain grows), its objective in ``Re s <= -0.5`` and the start
+    where each copy has its own gain, error poles at -2 and -3, no
+    coupling."""
     import control as ct
     from controlext.synthesis.objective import Objective
     prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]],
                            copies=2)
     obj = Objective(prob, cx.HalfPlane(0.5), rho=1.0, delta=1e-7)
-    # each copy's own gain with error poles at -2 and -3, no coupling
     L = ct.place(np.array([[-1.0, -1.0], [1.0, 0.0]]),
                  np.array([[1.0], [2.0]]), [-2.0, -3.0]).T
-    G0 = np.kron(np.eye(2), L)
+    return prob, obj, np.kron(np.eye(2), L)
+
+
+def _check_inside(prob, G, gamma):
+    """``G``'s norm is ``gamma`` and its poles are in ``Re s <= -0.5``,
+    by python-control on the error system rebuilt from the gain."""
+    import control as ct
+    err = ct.ss(*prob.error_system(G))
+    assert ct.linfnorm(err)[0] == pytest.approx(gamma, rel=1e-8)
+    assert np.max(np.linalg.eigvals(err.A).real) <= -0.5 + 1e-9
+
+
+def test_a_segment_ends_where_it_meets_the_floor():
+    """A polishing segment ends at the first point inside the region at
+    the floor level (``enough``), not at the end of its budget; the norm
+    and decay of the point it stops at are recomputed independently."""
+    prob, obj, G0 = _paper_pair()
     run = dict(x=G0.ravel(), best=(np.inf, None), rho=None, escalation=0,
                restart=0, fx=None, value=np.inf, stop=False, result=None)
     free = refine._polish_step((obj, run, 600, 0, 0, 1e-7, None))
@@ -263,9 +279,7 @@ def test_a_segment_ends_where_it_meets_the_floor():
     gamma, G = stopped['best']
     assert 1e-6 < gamma <= 1e-2
     assert stopped['points'] < free['points'] / 2
-    err = ct.ss(*prob.error_system(G))
-    assert ct.linfnorm(err)[0] == pytest.approx(gamma, rel=1e-8)
-    assert np.max(np.linalg.eigvals(err.A).real) <= -0.5 + 1e-9
+    _check_inside(prob, G, gamma)
 
 
 def test_race_reach_of_shrinking_gains():
@@ -317,14 +331,7 @@ def test_the_run_that_meets_the_floor_ends_its_round(monkeypatch):
     """Runs go in order of their values, and the first to meet the floor
     ends the round: the later runs' segments are not computed without an
     executor, and are dropped with one, so the result is the same."""
-    import control as ct
-    from controlext.synthesis.objective import Objective
-    prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]],
-                           copies=2)
-    obj = Objective(prob, cx.HalfPlane(0.5), rho=1.0, delta=1e-7)
-    L = ct.place(np.array([[-1.0, -1.0], [1.0, 0.0]]),
-                 np.array([[1.0], [2.0]]), [-2.0, -3.0]).T
-    G0 = np.kron(np.eye(2), L)
+    prob, obj, G0 = _paper_pair()
     # measurement noise only: γ -> 0 as the gain grows, so both starts
     # reach the level 1e-2 taken as the floor within one segment
     screened = [(G0.ravel(), (np.inf, None)),
@@ -361,6 +368,4 @@ def test_the_run_that_meets_the_floor_ends_its_round(monkeypatch):
         np.testing.assert_array_equal(G1, G2)
     gamma, G = min(results['serial'], key=lambda item: item[0])
     assert gamma <= 1e-2 * (1 + opts.floor_tol)
-    err = ct.ss(*prob.error_system(G))
-    assert ct.linfnorm(err)[0] == pytest.approx(gamma, rel=1e-8)
-    assert np.max(np.linalg.eigvals(err.A).real) <= -0.5 + 1e-9
+    _check_inside(prob, G, gamma)

@@ -60,6 +60,8 @@ __all__ = ['Tradeoff', 'tradeoff_of', 'h2_norm', 'transient',
 PERTURBATIONS = (1e-6, 1e-3)
 #: the settling band, relative to the error's start
 SETTLING_BAND = 0.02
+#: exact steps per sample interval where a continuous transient is refined
+SUB = 256
 
 
 @dataclass(repr=False)
@@ -154,60 +156,55 @@ def transient(problem: ObserverProblem, G: ArrayLike, points: int = 800
         if env[-1] <= band and env[-max(2, times.size // 8):].max() <= band:
             break
         horizon *= 2
-    peak = _peak(Acl, Ccl, states, env, times, dt, stride if dt else 1)
+    # between two samples: every step in discrete time, SUB exact steps
+    # in continuous time
+    count = stride if dt else SUB
+    fine_step = Acl if dt else la.expm(Acl * (times[1] - times[0]) / SUB)
+
+    def between(i, intervals=1):
+        """The envelope at every fine step from sample ``i`` over the
+        next ``intervals`` intervals (in chunks: a long stride is not
+        held in memory at once)."""
+        X, vals, left = states[i], [env[i:i + 1]], count * intervals
+        with np.errstate(over='ignore', invalid='ignore'):
+            while left:
+                fine = np.empty((min(left, 4096),) + X0.shape)
+                for j in range(fine.shape[0]):
+                    X = fine[j] = fine_step @ X
+                vals.append(np.linalg.svd(Ccl @ fine, compute_uv=False)
+                            [:, 0])
+                left -= fine.shape[0]
+        return np.concatenate(vals)
+
+    # the peak: the largest sample, refined over the intervals on either
+    # side (sampled only, the double integrator's pair read 1.0439 for
+    # 1.0487)
+    i = int(np.argmax(env))
+    lo, hi = max(i - 1, 0), min(i + 1, times.size - 1)
+    peak = float(env[i])
+    if count > 1 and hi > lo:
+        peak = float(max(peak, np.max(between(lo, hi - lo))))
     above = np.nonzero(env > band)[0]
     if above.size == 0:
         return peak, 0.0
     last = above[-1]
     if last + 1 >= times.size:
         return peak, float('inf')
+    vals = between(last)
+    inside = np.nonzero(vals <= band)[0]
     if dt:
-        # single steps across the crossing's stride
-        X, settle = states[last], times[last + 1]
-        for j in range(1, stride + 1):
-            X = Acl @ X
-            if la.svdvals(Ccl @ X)[0] <= band:
-                settle = times[last] + j * step
-                break
+        # the first step across the crossing's stride
+        settle = times[last] + inside[0] * step if inside.size else \
+            times[last + 1]
     else:
-        # the envelope is continuous: sub-steps across the crossing's
-        # interval, then linear interpolation between the two around it
-        sub = 256
-        h = (times[last + 1] - times[last]) / sub
-        Phi = la.expm(Acl * h)
-        fine = np.empty((sub + 1,) + X0.shape)
-        fine[0] = states[last]
-        for j in range(sub):
-            fine[j + 1] = Phi @ fine[j]
-        vals = np.linalg.svd(Ccl @ fine, compute_uv=False)[:, 0]
-        j = int(np.argmax(vals <= band)) if np.any(vals <= band) else sub
+        # the envelope is continuous: linear interpolation between the
+        # two sub-steps around the crossing
+        h = (times[1] - times[0]) / SUB
+        j = int(inside[0]) if inside.size else SUB
         prev, val = vals[j - 1], vals[j]
         settle = times[last] + h * (j - (band - val) / (prev - val)
                                     if prev > val else j)
     return peak, float(settle)
-
-
-def _peak(Acl, Ccl, states, env, times, dt, stride, sub=256):
-    """The envelope's largest value: its largest sample, refined over the
-    intervals on either side (sampled only, the double integrator's pair
-    read 1.0439 for 1.0487): every step in discrete time, ``sub`` steps
-    per interval in continuous time."""
-    i = int(np.argmax(env))
-    lo, hi = max(i - 1, 0), min(i + 1, times.size - 1)
-    if dt and stride == 1 or hi == lo:
-        return float(env[i])
-    if dt:
-        count, Phi = stride * (hi - lo), Acl
-    else:
-        count = sub * (hi - lo)
-        Phi = la.expm(Acl * (times[1] - times[0]) / sub)
-    fine = np.empty((count + 1,) + states[lo].shape)
-    fine[0] = states[lo]
-    with np.errstate(over='ignore', invalid='ignore'):
-        for j in range(count):
-            fine[j + 1] = Phi @ fine[j]
-        vals = np.linalg.svd(Ccl @ fine, compute_uv=False)[:, 0]
-    return float(max(env[i], np.max(vals)))
 
 
 def decay_sensitivity(problem: ObserverProblem, G: ArrayLike,
