@@ -367,7 +367,7 @@ def _search(pmap, obj, inner, theta, iterations, race=None):
             G = pmap.gain(theta, shift)
             if not np.all(np.isfinite(G)):
                 return lost
-            value, g = inner(G.ravel(), grad=grad)
+            value, g = inner(G.ravel(), grad=grad, above=above)
             if not grad or not np.isfinite(value):
                 return value, (np.zeros_like(theta) if grad else None)
             g = pmap.gain_vjp(theta, g, shift)[1]
