@@ -67,6 +67,32 @@ def test_floor_closed_form_and_brute_force():
     assert filter_floor(dprob) == pytest.approx(brute, rel=1e-5)
 
 
+def test_discrete_floor_where_the_lmi_is_inaccurate_at_the_defaults():
+    """A 2-state discrete plant whose floor LMI clarabel ends
+    'optimal_inaccurate' at its default tolerances: the floor is solved
+    again at looser ones, and agrees to the 0.1 % it is used with against
+    an independent search over the two gain entries (a grid, then
+    Nelder-Mead on python-control's norm of the rebuilt error system)."""
+    from scipy.optimize import minimize
+    A = np.array([[0.1, -0.6], [-0.4, -0.9]])
+    C = np.array([[-1.5, -0.9]])
+    Bw, Dw = np.array([[0.8, 0.0], [1.7, 0.0]]), np.array([[0.0, 0.8]])
+
+    def norm(gain):
+        Acl = A - np.reshape(gain, (2, 1)) @ C
+        if np.max(np.abs(np.linalg.eigvals(Acl))) >= 1:
+            return np.inf
+        return ct.linfnorm(ct.ss(Acl, np.reshape(gain, (2, 1)) @ Dw - Bw,
+                                 np.eye(2), 0, 0.1))[0]
+
+    grid = np.linspace(-2, 2, 41)
+    start = min(((a, b) for a in grid for b in grid), key=norm)
+    best = minimize(norm, start, method='Nelder-Mead',
+                    options=dict(xatol=1e-10, fatol=1e-12)).fun
+    floor = filter_floor(ObserverProblem(A, C, Bw=Bw, Dw=Dw, dt=0.1))
+    assert floor == pytest.approx(best, rel=1e-3)
+
+
 def test_no_design_below_the_floor():
     for obs in (cx.hinf_observer(SECOND, decay=1.0, **NOISE2),
                 cx.coupled_observer(SECOND, decay=1.0, **NOISE2)):
