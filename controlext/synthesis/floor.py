@@ -71,17 +71,20 @@ def filter_floor(problem: ObserverProblem, solver: str | None = None,
         return None
     from .criteria import Criteria
     from .lmi import solve_observer_lmi
-    # (noise-free sensors make the problem singular: its optimum is often
-    # approached only as the gain grows, and a looser solve's level there
-    # is checked against nothing)
-    retry = noisy and (solver is None or str(solver).upper() == 'CLARABEL')
-    for options in ({}, LOOSER):
+    # a second, looser solve only with noise on every sensor: without it
+    # the problem is singular, its optimum often approached only as the
+    # gain grows, and a looser solve's level there is checked against
+    # nothing
+    tries = [{}]
+    if noisy and (solver is None or str(solver).upper() == 'CLARABEL'):
+        tries.append(LOOSER)
+    for options in tries:
         try:
             sol = solve_observer_lmi(one, None, margin=1.0, solver=solver,
                                      solver_options=options,
                                      criteria=Criteria(criterion))
         except SolverError as exc:
-            if options or not retry or exc.status != 'optimal_inaccurate':
+            if exc.status != 'optimal_inaccurate':
                 return None
         except ParameterError:
             return None

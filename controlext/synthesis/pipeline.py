@@ -112,7 +112,7 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
         norm = _bounded_norm(bound, G)
         report.stats['max_gain'] = dict(bound=bound[0], norm=norm)
         if options.max_gain == 'auto' and \
-                0.999 * bound[0] <= norm <= bound[0] * (1 + 1e-6):
+                0.999 * bound[0] <= norm and _within(bound, norm):
             # (above the bound only with refine=False, which said so)
             warnings.warn(
                 f"the gain is held at the default bound max_gain='auto' "
@@ -224,6 +224,12 @@ def _bounded_norm(bound, G):
     return float(np.linalg.norm(bound[1][:, None] * G, 2))
 
 
+def _within(bound, norm):
+    """Does a gain of bounded norm ``norm`` meet the bound ``(κ,
+    weights)`` (to the verification's rounding)?"""
+    return norm <= bound[0] * (1 + 1e-6)
+
+
 def _scales(problem, region):
     """The plant's scale: the rate ``max(1, ‖A‖, the region's least
     speed)`` and the gain ``rate / ‖C‖``."""
@@ -280,7 +286,7 @@ def synthesise(problem, region, options, convex=None, check=None,
     def check(G, **info):
         if bound is not None:
             norm = _bounded_norm(bound, G)
-            if norm > bound[0] * (1 + 1e-6):
+            if not _within(bound, norm):
                 over_bound.append(norm)
                 raise VerificationError(
                     f"the {info.get('stage', 'convex')} design's gain norm "
@@ -303,8 +309,7 @@ def synthesise(problem, region, options, convex=None, check=None,
                     "only refinement holds settling_time= and "
                     "gain_tolerance=") from None
             best = None
-    within = bound is None or \
-        _bounded_norm(bound, convex.G) <= bound[0] * (1 + 1e-6)
+    within = bound is None or _within(bound, _bounded_norm(bound, convex.G))
     if best is not None and not (options.refine and (
             needs_refinement(problem, region) or not within)):
         if not within and bound is not None:
