@@ -75,7 +75,7 @@ def filter_floor(problem: ObserverProblem, solver: str | None = None,
     # the problem is singular, its optimum often approached only as the
     # gain grows, and a looser solve's level there is checked against
     # nothing
-    tries = [{}]
+    tries: list[dict[str, float]] = [{}]
     if noisy and (solver is None or str(solver).upper() == 'CLARABEL'):
         tries.append(LOOSER)
     for options in tries:
