@@ -291,6 +291,39 @@ def test_h2_of_poles_on_the_axis_to_working_precision():
     assert near == pytest.approx(np.sqrt(1 / 4e-3), rel=1e-3)
 
 
+@pytest.mark.parametrize('b', [1e6, 3e6])
+def test_continuous_gramian_of_a_far_from_normal_matrix(b):
+    """Poles -1 ± j in a rotated block [[-1, b], [-1/b, -1]], which
+    balancing does not undo: scipy's real Schur solver takes the block for
+    a pair summing to zero (the Gramian was inf, as on the axis).  Against
+    the exact solution of the three linear equations of the symmetric
+    ``P`` in rational arithmetic, to the accuracy the conditioning
+    (about b²) allows."""
+    from fractions import Fraction
+    from controlext.synthesis.criteria import gramian
+    c, s = np.cos(0.3), np.sin(0.3)
+    R = np.array([[c, -s], [s, c]])
+    A = R @ np.array([[-1.0, b], [-1.0 / b, -1.0]]) @ R.T
+    (a, e), (f, d) = [[Fraction(float(x)) for x in row] for row in A]
+    # A P + P Aᵀ = -I in p, q, r (P = [[p, q], [q, r]]), by Cramer's rule
+    M = [[2 * a, 2 * e, 0], [f, a + d, e], [0, 2 * f, 2 * d]]
+    rhs = [-1, 0, -1]
+
+    def det(m):
+        return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+    p, q, r = (det([[rhs[i] if j == k else M[i][j] for j in range(3)]
+                    for i in range(3)]) / det(M) for k in range(3))
+    ref = np.array([[float(p), float(q)], [float(q), float(r)]])
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        P = gramian(A, np.eye(2))
+    assert np.linalg.norm(P - ref) <= 1e-3 * np.linalg.norm(ref)
+    assert h2_norm(A, np.eye(2), np.eye(2)) == pytest.approx(
+        np.sqrt(float(p + r)), rel=1e-3)
+
+
 def test_sweep_of_max_hinf_holds_every_bound():
     noise = dict(Bw=BW, Dw=DW, decay=1.0, objective='h2')
     s = cx.sweep(PLANT, 'max_hinf', [0.76, 0.85], **noise)

@@ -198,6 +198,31 @@ def _stein_schur(A: np.ndarray, Q: np.ndarray) -> np.ndarray:
     return (P + P.T) / 2
 
 
+def _lyap_schur(A: np.ndarray, Q: np.ndarray) -> np.ndarray | None:
+    """``P`` with ``A P + P Aᵀ + Q = 0`` for a Hurwitz ``A``, in the
+    complex Schur form ``A = Z T Zᴴ`` (``None`` where two poles sum to
+    zero to working precision, both on the imaginary axis): column ``j``
+    of ``Y = Zᴴ P Z`` solves the triangular system ``(T + conj(t_jj) I)
+    y_j = −q̃_j − Σ_{l>j} conj(t_jl) y_l``, last column first.  Its
+    triangular solves divide by the pole sums ``λ_i + conj(λ_j)`` only,
+    where the real Schur form's 2×2 blocks of a far from normal ``A``
+    may look singular to LAPACK's pivot test."""
+    T, Z = la.schur(np.asarray(A, dtype=complex), output='complex')
+    poles = np.diag(T)
+    n = T.shape[0]
+    if n and np.min(np.abs(2 * poles.real)) <= \
+            n * np.finfo(float).eps * np.abs(T).max():
+        return None
+    Qt = Z.conj().T @ Q @ Z
+    Y = np.zeros((n, n), dtype=complex)
+    eye = np.eye(n)
+    for j in range(n - 1, -1, -1):
+        rhs = -Qt[:, j] - Y[:, j + 1:] @ T[j, j + 1:].conj()
+        Y[:, j] = la.solve_triangular(T + np.conj(T[j, j]) * eye, rhs)
+    P = (Z @ Y @ Z.conj().T).real
+    return (P + P.T) / 2
+
+
 def gramian(A: np.ndarray, Q: np.ndarray, dt: float = 0) -> np.ndarray:
     """``P`` with ``A P + P Aᵀ + Q = 0`` (``A P Aᵀ − P + Q = 0`` when
     ``dt``) for a stable ``A``, solved on the balanced ``D⁻¹ A D`` (``D``
@@ -222,13 +247,19 @@ def _gramian(A, Q, dt):
         marginal = False
         for w in caught:
             if 'eigenvalue pair' in str(w.message):
-                # two poles sum to zero to working precision: both on the
-                # imaginary axis, where the Gramian is unbounded (scipy
-                # would perturb the equation and warn)
+                # scipy found two poles summing to zero: both on the
+                # imaginary axis, where the Gramian is unbounded — or a
+                # far from normal A whose 2×2 Schur blocks its pivot test
+                # took for singular (campaign call 655: poles -0.67 to
+                # -9.7, ‖A‖ 4.9e7, perturbed to a NaN Gramian); the
+                # complex Schur form tells them apart
                 marginal = True
             else:
                 warnings.warn(w.message, w.category, stacklevel=2)
-        return np.full_like(P, np.inf) if marginal else P
+        if not marginal:
+            return P
+        P = _lyap_schur(A, Q)
+        return np.full((A.shape[0],) * 2, np.inf) if P is None else P
     # in the Schur form: on far from normal error matrices scipy's solvers
     # lose what it keeps (its Kronecker solve squares the conditioning,
     # its bilinear route inverts A + I)
