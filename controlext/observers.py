@@ -142,7 +142,8 @@ class Observer(ct.StateSpace):
         if self.report.tradeoff is None:
             self.report.tradeoff = tradeoff_of(
                 self.problem, self._G, self.name,
-                floor=filter_floor(self.problem), region=self.report.region)
+                floor=filter_floor(self.problem), region=self.report.region,
+                hinf=self.hinf)
         return self.report.tradeoff
 
     def _repr_html_(self):

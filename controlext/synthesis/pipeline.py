@@ -132,7 +132,8 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
                              max_states=options.lmi_max_states)
     report.tradeoff = tradeoff_of(
         problem, G, system['name'] or '', floor=floor,
-        luenberger=report.stats.get('luenberger_hinf'), region=region)
+        luenberger=report.stats.get('luenberger_hinf'), region=region,
+        hinf=report.hinf)
     if report.tradeoff.peak > EXTREME:
         # an initial error (or a rounding error) grows this much before
         # it decays: the estimator reproduces its error system only to
