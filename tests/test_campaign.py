@@ -61,6 +61,9 @@ def test_fragile_design_is_not_silent():
     (819, 'silent: the estimator parted from its error system by 2x the '
           'judge\'s rounding tolerance; 1e-6 gain errors cost 1.733 of its '
           'decay 3.48, under the old warning threshold of half the decay'),
+    (658, 'judged silent: estimator and error system, both run in double, '
+          '1.2e-7 apart at γ 1.3e5, each 6.5e-8 off the same runs in '
+          'extended precision, which the judge now compares'),
 ])
 def test_campaign_seeds_fixed(seed, why):
     """Seeds of the full campaign that crashed or were refused wrongly;
