@@ -110,3 +110,25 @@ def test_options_checked_before_any_solve():
 def test_refine_false_says_the_bound_is_not_held():
     with pytest.warns(cx.GainWarning, match='refine=False'):
         cx.hinf_observer(UNSTABLE, decay=2.0, max_gain=1.5, refine=False)
+
+
+def test_unbounded_discrete_design_warns_in_its_own_words():
+    """A discrete mode at 0.95 seen 1e-8 as strongly as the other: moving
+    it into |z| < 0.5 needs l₂ · 1e-8 > 0.45 (the error matrix is nearly
+    triangular), a gain above 4.5e7.  With the bound lifted the design
+    says so with GainWarnings only: scipy's notes on the ill-conditioned
+    bilinear map of the norm's cross-check (some 200 LinAlgWarnings) stay
+    inside, and the warning gives no pole rate for a discrete design (it
+    said 'its fastest error pole 0 times')."""
+    plant = ct.ss(np.diag([0.9, 0.95]), [[1.0], [1.0]], [[1.0, 1e-8]], 0,
+                  0.1)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter('always')
+        obs = cx.hinf_observer(plant, region=cx.Disk(0.5), max_gain=None)
+    kinds = {w.category for w in caught}
+    assert kinds == {cx.GainWarning}, kinds
+    assert not any('fastest error pole' in str(w.message) for w in caught)
+    L = np.asarray(obs.L)
+    assert np.linalg.norm(L, 2) > 0.45e8
+    poles = np.linalg.eigvals(plant.A - L @ plant.C)
+    assert np.all(np.abs(poles) < 0.5 + 1e-6)

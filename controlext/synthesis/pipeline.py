@@ -533,9 +533,12 @@ def warn_if_extreme(problem, G, report, region=None):
     fastest = float(np.max(np.abs(report.poles))) / rate \
         if not problem.dt and report.poles.size else 0.0
     if gain > EXTREME or fastest > EXTREME:
+        # (a discrete design's poles lie in the unit disk: no rate to say)
+        poles = '' if problem.dt else \
+            f" and its fastest error pole {fastest:.3g} times"
         warnings.warn(
-            f"the design's gain is {gain:.3g} times the plant's scale and "
-            f"its fastest error pole {fastest:.3g} times (γ = "
+            f"the design's gain is {gain:.3g} times the plant's scale"
+            f"{poles} (γ = "
             f"{report.hinf:.6g}); such a gain amplifies rounding and "
             "unmodelled noise.  refine=False returns the convex design, "
             "whose gain is conditioned (its γ within margin= of the convex "
