@@ -25,7 +25,9 @@ the region gives a stable design), refused (no independent proof either
 way), crash (a foreign exception), hang (time limit), silent wrong (a
 returned design that fails a check), warned, check failed (the same on a
 design the package sent a GainWarning with), and gains above 1e6 times
-the plant's scale returned without a GainWarning.
+the plant's scale returned without a GainWarning.  Apart from the
+outcomes it counts the calls that let a warning other than the
+package's GainWarning reach the user, and prints them.
 
     python benchmarks/design_campaign.py --calls 1000
     python benchmarks/design_campaign.py --calls 60 --limit 60
@@ -398,9 +400,18 @@ def placement_exists(case):
     return in_region(spec, np.linalg.eigvals(A - L @ C), dt, tol=1e-4)
 
 
+def _others(caught, cx):
+    """The distinct warnings of a call other than the package's
+    GainWarning (a user sees them too: scipy's notes, numpy's overflow)."""
+    return sorted({f"{w.category.__name__}: {str(w.message)[:70]}"
+                   for w in caught
+                   if not issubclass(w.category, cx.GainWarning)})
+
+
 def run_case(case, queue):
     warnings.simplefilter('ignore')
     import controlext as cx
+    caught = []
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter('always')
@@ -421,18 +432,20 @@ def run_case(case, queue):
         # not silent: it is counted apart
         outcome = 'verified' if not why else \
             'warned, check failed' if warned else 'silent wrong'
-        queue.put((outcome, why, bool(big and not warned)))
+        queue.put((outcome, why, bool(big and not warned),
+                   _others(caught, cx)))
     except cx.ControlextError as exc:
+        others = _others(caught, cx)
         if case['no_solution'] or unobservable_outside(case):
-            queue.put(('refused right', type(exc).__name__, False))
+            queue.put(('refused right', type(exc).__name__, False, others))
         elif placement_exists(case):
             queue.put(('refused wrong', f"{type(exc).__name__}: {exc}"[:300],
-                       False))
+                       False, others))
         else:
             queue.put(('refused', f"{type(exc).__name__}: {exc}"[:200],
-                       False))
+                       False, others))
     except Exception:
-        queue.put(('crash', traceback.format_exc()[-600:], False))
+        queue.put(('crash', traceback.format_exc()[-600:], False, []))
 
 
 def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
@@ -456,23 +469,26 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
             if not queue.empty():
                 result = queue.get()
             elif not proc.is_alive():
-                result = ('crash', f'process died ({proc.exitcode})', False)
+                result = ('crash', f'process died ({proc.exitcode})', False,
+                          [])
             elif time.perf_counter() - began > limit:
                 proc.kill()
-                result = ('hang', f'over {limit:g} s', False)
+                result = ('hang', f'over {limit:g} s', False, [])
             if result is None:
                 continue
             proc.join(timeout=5)
             running.remove(item)
-            outcome, why, unwarned = result
+            outcome, why, unwarned, others = result
             counts[outcome] += 1
             counts['unwarned huge gain'] += unwarned
+            counts['other warnings'] += bool(others)
             details.append((case['seed'], case['family'], case['kind'],
-                            case['dt'] > 0, case['region'], outcome, why))
+                            case['dt'] > 0, case['region'], outcome, why,
+                            others))
             if verbose:
                 print(case['seed'], case['family'], case['kind'], outcome,
                       why if outcome not in ('verified', 'refused right')
-                      else '', flush=True)
+                      else '', *others, flush=True)
     return counts, details
 
 
@@ -490,7 +506,7 @@ def main():
     print(f"\n{args.calls} calls in {time.perf_counter() - began:.0f} s")
     for outcome in ('verified', 'refused right', 'refused wrong', 'refused',
                     'crash', 'hang', 'silent wrong', 'warned, check failed',
-                    'unwarned huge gain'):
+                    'unwarned huge gain', 'other warnings'):
         print(f"{outcome:<20}{counts[outcome]:>6}"
               f"{100 * counts[outcome] / args.calls:>8.1f} %")
     by = collections.Counter((d[1], d[5]) for d in details)
