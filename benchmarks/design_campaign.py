@@ -231,6 +231,19 @@ def design(case):
                           copies=2 if kind == 'gi-pair' else 1, **kw)
 
 
+def augmented(case):
+    """The GI-augmented pair ``[[A, Bw U], [0, Λ]], [C, U]`` (``Λ`` 0, or
+    I in discrete time: constant disturbances along ``U``, a basis of
+    ``range(C)``)."""
+    A, C = np.asarray(case['A']), np.asarray(case['C'])
+    n = A.shape[0]
+    U = np.linalg.svd(C)[0][:, :np.linalg.matrix_rank(C)]
+    r = U.shape[1]
+    hold = np.eye(r) if case['dt'] else np.zeros((r, r))
+    return (np.block([[A, case['Bw_gi'] @ U], [np.zeros((r, n)), hold]]),
+            np.hstack([C, U]))
+
+
 def rebuild(case, obs):
     """The error system from the plant and the returned gains, by hand."""
     A, C = np.asarray(case['A']), np.asarray(case['C'])
@@ -240,11 +253,8 @@ def rebuild(case, obs):
         keep = C @ np.linalg.pinv(C)                    # I − Π
         Bw, Dw = case['Bw_gi'] @ keep, keep
         if case['kind'] == 'gi-aug':
-            U = np.linalg.svd(C)[0][:, :np.linalg.matrix_rank(C)]
-            r = U.shape[1]
-            hold = np.eye(r) if case['dt'] else np.zeros((r, r))
-            Aa = np.block([[A, case['Bw_gi'] @ U], [np.zeros((r, n)), hold]])
-            Ca = np.hstack([C, U])
+            Aa, Ca = augmented(case)
+            r = Aa.shape[0] - n
             G = np.vstack([obs.L, obs.Lw])
             Acl = Aa - G @ Ca
             Bcl = G @ Dw - np.vstack([Bw, np.zeros((r, p))])
@@ -349,11 +359,15 @@ def unobservable_outside(case, rtol=1e-9):
     """A proof that no design exists: a mode of A outside the region (or
     unstable) that the PBH test finds unobservable."""
     A, C = np.asarray(case['A']), np.asarray(case['C'])
+    modes = np.linalg.eigvals(A)
     if case['kind'] == 'gi-aug':
-        return False
+        # the augmented pair at its disturbance modes, exactly s = 0 (z =
+        # 1): on the stability boundary, outside every region
+        A, C = augmented(case)
+        modes = [1.0 if case['dt'] else 0.0]
     n = A.shape[0]
     size = max(np.linalg.norm(A, 2), np.linalg.norm(C, 2))
-    for lam in np.linalg.eigvals(A):
+    for lam in modes:
         if in_region(case['region'], [lam], case['dt']):
             continue
         M = np.vstack([A - lam * np.eye(n), C])
@@ -377,11 +391,7 @@ def placement_exists(case):
     (control.place on the plant, or on the augmented plant)."""
     A, C = np.asarray(case['A']), np.asarray(case['C'])
     if case['kind'] == 'gi-aug':        # the augmented pair must be placed
-        U = np.linalg.svd(C)[0][:, :np.linalg.matrix_rank(C)]
-        r = U.shape[1]
-        hold = np.eye(r) if case['dt'] else np.zeros((r, r))
-        A = np.block([[A, case['Bw_gi'] @ U], [np.zeros((r, len(A))), hold]])
-        C = np.hstack([C, U])
+        A, C = augmented(case)
     n = A.shape[0]
     spec = case['region']
     dt = case['dt']

@@ -71,3 +71,15 @@ def test_campaign_seeds_fixed(seed, why):
     counts, details = campaign(1, limit=120.0, start=seed, workers=1)
     assert details[0][5] in ('verified', 'warned, check failed',
                              'refused right'), (why, details[0])
+
+
+@pytest.mark.parametrize('seed', [702, 1080])
+def test_undetectable_augmented_plant_is_a_right_refusal(seed):
+    """A GI-augmented plant whose disturbance mode (s = 0 or z = 1) the
+    measurements [C, U] do not see: the package refuses with
+    NotDetectableError, and the judge now proves it right by the PBH test
+    of the augmented pair at that exact mode (it counted these as refusals
+    without proof: 3 of the 10 of calls 900-1199)."""
+    counts, details = campaign(1, limit=120.0, start=seed, workers=1)
+    assert details[0][2] == 'gi-aug'
+    assert details[0][5] == 'refused right', details[0]
