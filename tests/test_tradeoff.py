@@ -272,3 +272,23 @@ def test_transient_peak_between_samples():
         X = Phi @ X
     assert env.max() > env[0] * (1 + 1e-3)          # an interior peak
     assert peak == pytest.approx(env.max(), rel=1e-8)
+
+
+def test_overflowing_transient_is_worded_as_such(monkeypatch):
+    """A design whose transient simulation overflows (campaign call 157:
+    γ 1.4e10, gain 1.6e7) warned that its error 'grows to inf'; the
+    warning now says it grows beyond the range of double precision, and
+    a finite peak keeps its number."""
+    import warnings
+    import controlext.synthesis.tradeoff as tradeoff
+    for peak, text in [(np.inf, 'beyond the range of double precision'),
+                       (3e7, 'grows to 3e+07')]:
+        monkeypatch.setattr(tradeoff, 'transient',
+                            lambda problem, G, p=peak: (p, np.inf))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter('always')
+            cx.hinf_observer(SCALAR, decay=2.5)
+        said = [str(w.message) for w in caught
+                if issubclass(w.category, cx.GainWarning)]
+        assert len(said) == 1 and text in said[0], said
+        assert 'inf' not in said[0].split('(')[0]

@@ -140,9 +140,13 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
         # that many digits fewer (campaign: peaks 2e6-2e8 on defective
         # and unstable plants, where estimator and error system parted at
         # 6e-5 relative within 60 steps)
+        peak = report.tradeoff.peak
+        # (inf: its simulation overflowed, as on campaign call 157)
+        size = f"to {peak:.3g}" if np.isfinite(peak) else \
+            "beyond the range of double precision"
         warnings.warn(
-            f"the averaged error from a unit initial error grows to "
-            f"{report.tradeoff.peak:.3g} before it decays (γ = "
+            f"the averaged error from a unit initial error grows {size} "
+            f"before it decays (γ = "
             f"{report.hinf:.6g}): the estimator amplifies its own rounding "
             "as much.  A looser region, or max_gain=, gives a better "
             "conditioned design", GainWarning, stacklevel=3)
