@@ -358,13 +358,14 @@ def judge(case, obs):
 def unobservable_outside(case, rtol=1e-9):
     """A proof that no design exists: a mode of A outside the region (or
     unstable) that the PBH test finds unobservable."""
-    A, C = np.asarray(case['A']), np.asarray(case['C'])
-    modes = np.linalg.eigvals(A)
     if case['kind'] == 'gi-aug':
         # the augmented pair at its disturbance modes, exactly s = 0 (z =
         # 1): on the stability boundary, outside every region
         A, C = augmented(case)
         modes = [1.0 if case['dt'] else 0.0]
+    else:
+        A, C = np.asarray(case['A']), np.asarray(case['C'])
+        modes = np.linalg.eigvals(A)
     n = A.shape[0]
     size = max(np.linalg.norm(A, 2), np.linalg.norm(C, 2))
     for lam in modes:
