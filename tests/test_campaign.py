@@ -73,6 +73,17 @@ def test_campaign_seeds_fixed(seed, why):
                              'refused right'), (why, details[0])
 
 
+@pytest.mark.parametrize('seed', [1313, 1341])
+def test_h2_of_far_from_normal_designs_is_verified(seed):
+    """Discrete pairs of gain 3e6-3e7 whose error matrices are far from
+    normal: SLICOT's SB03MD gave Gramians with negative eigenvalues, and
+    the reported H2 norm was 0 against python-control's 2.45605e6 (1313)
+    or 2.50e7 against 3.54e7 (1341; the exact Gramian in rational
+    arithmetic gives 3.53682e7)."""
+    counts, details = campaign(1, limit=120.0, start=seed, workers=1)
+    assert details[0][5] == 'verified', details[0]
+
+
 @pytest.mark.parametrize('seed', [702, 1080])
 def test_undetectable_augmented_plant_is_a_right_refusal(seed):
     """A GI-augmented plant whose disturbance mode (s = 0 or z = 1) the

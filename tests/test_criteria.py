@@ -324,6 +324,116 @@ def test_continuous_gramian_of_a_far_from_normal_matrix(b):
         np.sqrt(float(p + r)), rel=1e-3)
 
 
+def _exact_h2(A, B, C, dt):
+    """The H2 norm of ``(A, B, C, 0)`` from the Lyapunov (``dt=0``) or
+    Stein equation of the symmetric Gramian solved exactly, in rational
+    arithmetic on the matrices' binary values (Gauss-Jordan on the
+    ``n (n + 1) / 2`` unknowns)."""
+    from fractions import Fraction
+    n = A.shape[0]
+    a = [[Fraction(float(x)) for x in row] for row in A]
+    b = [[Fraction(float(x)) for x in row] for row in B]
+    c = [[Fraction(float(x)) for x in row] for row in C]
+    unknown = {}
+    for i in range(n):
+        for j in range(i, n):
+            unknown[(i, j)] = len(unknown)
+
+    def at(i, j):
+        return unknown[(min(i, j), max(i, j))]
+    size = len(unknown)
+    M = [[Fraction(0)] * size for _ in range(size)]
+    rhs = [Fraction(0)] * size
+    for (i, j), r in unknown.items():
+        if dt:              # (A P Aᵀ)_ij − P_ij = −(B Bᵀ)_ij
+            for k in range(n):
+                for l in range(n):
+                    M[r][at(k, l)] += a[i][k] * a[j][l]
+            M[r][r] -= 1
+        else:               # (A P)_ij + (P Aᵀ)_ij = −(B Bᵀ)_ij
+            for k in range(n):
+                M[r][at(k, j)] += a[i][k]
+                M[r][at(i, k)] += a[j][k]
+        rhs[r] = -sum(b[i][k] * b[j][k] for k in range(B.shape[1]))
+    for col in range(size):
+        pivot = next(r for r in range(col, size) if M[r][col] != 0)
+        M[col], M[pivot] = M[pivot], M[col]
+        rhs[col], rhs[pivot] = rhs[pivot], rhs[col]
+        for r in range(size):
+            if r != col and M[r][col] != 0:
+                f = M[r][col] / M[col][col]
+                M[r] = [x - f * y for x, y in zip(M[r], M[col])]
+                rhs[r] -= f * rhs[col]
+    P = [[rhs[at(i, j)] / M[at(i, j)][at(i, j)] for j in range(n)]
+         for i in range(n)]
+    trace = sum(row[i] * P[i][j] * row[j] for row in c
+                for i in range(n) for j in range(n))
+    return float(trace) ** 0.5
+
+
+@pytest.mark.parametrize('dt', [0, 1])
+@pytest.mark.parametrize('size', [1e5, 4.7e5, 1e6])
+def test_h2_of_a_far_from_normal_pair(size, dt):
+    """Two nearly decoupled copies of a 2×2 block of entries ``size``
+    and poles 0.5074 e^{±0.2j} (discrete) or -0.5 ± j (continuous): the
+    error matrix of a coupled pair of gain 3e6 (campaign call 1313,
+    ‖A‖ 4.7e5).  SLICOT's SB03MD returned a Gramian with eigenvalues down
+    to -5e10 there, and the H2 norm read 0.  Against the exact solution
+    of the Gramian's equation in rational arithmetic."""
+    lam = 0.5074 * np.exp(0.2j) if dt else -0.5 + 1j
+    a = -0.6 * size
+    d = 2 * lam.real - a
+    b = 0.36 * size
+    block = np.array([[a, b], [(a * d - abs(lam) ** 2) / b, d]])
+    A = np.kron(np.eye(2), block) + 1e-13 * np.array(
+        [[0, 0, 1, -1], [0, 0, 1, 1], [1, 1, 0, 0], [-1, 1, 0, 0]])
+    B = 1e3 * np.array([[1.0, 0.2], [0.5, -1.0], [0.3, 0.1], [-0.7, 0.4]])
+    C = np.array([[0.24, -0.14, 0.24, -0.14]])
+    exact = _exact_h2(A, B, C, dt)
+    assert h2_norm(A, B, C, dt) == pytest.approx(exact, rel=1e-4)
+    assert h2_parts(A, B, C, dt, gradient=False)[0] == pytest.approx(
+        exact, rel=1e-4)
+
+
+@pytest.mark.parametrize('dt', [0, 1])
+def test_h2_where_slycot_raises(dt, monkeypatch):
+    """Without SB03OD's factor the H2 norm comes from the Gramian's
+    solvers: the same value on a well-conditioned system."""
+    import controlext.synthesis.criteria as criteria
+
+    def broken(*args, **kwargs):
+        raise RuntimeError('SB03OD failed')
+    A = np.array([[0.5, 0.2], [-0.1, 0.3]]) if dt else \
+        np.array([[-1.0, 2.0], [-0.5, -3.0]])
+    B, C = np.array([[1.0], [0.5]]), np.array([[1.0, -2.0]])
+    exact = _exact_h2(A, B, C, dt)
+    monkeypatch.setattr(criteria, '_sb03od', broken)
+    assert criteria.gramian_factor(A, B, dt) is None
+    assert h2_norm(A, B, C, dt) == pytest.approx(exact, rel=1e-12)
+    assert h2_parts(A, B, C, dt)[0] == pytest.approx(exact, rel=1e-12)
+
+
+def test_h2_gradient_from_the_factors():
+    """The gradient of the H2 norm (from the Gramians' Cholesky factors)
+    against central differences, continuous and discrete."""
+    rng = np.random.default_rng(3)
+    for dt in (0, 1):
+        A = rng.normal(size=(4, 4))
+        if dt:
+            A *= 0.8 / np.max(np.abs(np.linalg.eigvals(A)))
+        else:
+            A -= (np.max(np.linalg.eigvals(A).real) + 0.5) * np.eye(4)
+        B, C = rng.normal(size=(4, 2)), rng.normal(size=(3, 4))
+        h, dA, dB = h2_parts(A, B, C, dt)
+        E = rng.normal(size=(4, 4))
+        F = rng.normal(size=(4, 2))
+        step = 1e-6
+        diff = (h2_norm(A + step * E, B + step * F, C, dt) -
+                h2_norm(A - step * E, B - step * F, C, dt)) / (2 * step)
+        assert np.sum(dA * E) + np.sum(dB * F) == pytest.approx(diff,
+                                                               rel=1e-6)
+
+
 def test_sweep_of_max_hinf_holds_every_bound():
     noise = dict(Bw=BW, Dw=DW, decay=1.0, objective='h2')
     s = cx.sweep(PLANT, 'max_hinf', [0.76, 0.85], **noise)

@@ -48,9 +48,9 @@ from .._checks import check_choice, check_number
 from ..exceptions import ArgumentError
 
 try:
-    from slycot import sb03md57 as _sb03md
+    from slycot import sb03md57 as _sb03md, sb03od as _sb03od
 except ImportError:         # pragma: no cover - a required dependency
-    _sb03md = None
+    _sb03md = _sb03od = None
 
 __all__ = ['Criteria', 'OBJECTIVES', 'h2_norm', 'h2_parts', 'NAMES']
 
@@ -266,18 +266,83 @@ def _gramian(A, Q, dt):
     return _stein(A, Q)
 
 
+def gramian_factor(A: np.ndarray, B: np.ndarray,
+                   dt: float = 0) -> np.ndarray | None:
+    """``U`` with ``P = U Uᵀ`` the controllability Gramian of a stable
+    ``(A, B)`` (``A P + P Aᵀ + B Bᵀ = 0``, or ``A P Aᵀ − P + B Bᵀ = 0``
+    when ``dt``), by Hammarling's method (SLICOT's ``SB03OD``) on the
+    balanced ``D⁻¹ A D`` (see :func:`gramian`); None where slycot raises
+    or warns (a pole on or near the stability boundary).
+
+    The factor makes ``P`` positive semidefinite by construction: on far
+    from normal matrices the solvers of :func:`gramian` may return an
+    indefinite ``P`` whose traces cancel (campaign call 1313, a discrete
+    pair of poles 0.507 doubled, ‖A‖ 4.7e5: ``SB03MD``'s ``P`` had
+    eigenvalues down to -5e10 and the H2 norm read 0, where the exact
+    Gramian in rational arithmetic gives 2.45606e6 and this factor
+    2.45605e6)."""
+    if _sb03od is None:     # pragma: no cover - a required dependency
+        return None
+    A = np.asarray(A, dtype=float)
+    B = np.asarray(B, dtype=float)
+    n, m = B.shape
+    if n == 0:
+        return np.zeros((0, 0))
+    A, (d, _) = la.matrix_balance(A, permute=False, separate=True)
+    work = np.zeros((n, max(m, n)))
+    work[:, :m] = B / d[:, None]
+    with warnings.catch_warnings():
+        # slycot warns where the equation is nearly singular: the caller
+        # decides there
+        warnings.simplefilter('error')
+        try:
+            # op(A) = Aᵀ, op(B) = Bᵀ: A X Aᵀ − X = −scale² B Bᵀ, X = U Uᵀ
+            U, scale, poles = _sb03od(n, m, A.copy(), np.zeros((n, n)),
+                                      work, 'D' if dt else 'C', trans='T')
+        except Exception:
+            return None
+    edge = 1.0 - np.abs(poles) if dt else -2.0 * poles.real
+    scale_a = max(np.abs(A).max(), 1.0)
+    if np.min(edge) <= n * np.finfo(float).eps * scale_a:
+        # on the boundary to working precision: :func:`gramian` decides
+        return None
+    U = np.triu(U[:n, :n])
+    if not scale > 0 or not np.all(np.isfinite(U)):
+        return None
+    return d[:, None] * U / scale
+
+
 def h2_norm(A, B, C, dt: float = 0) -> float:
-    """H2 norm of ``(A, B, C, 0)`` from its controllability Gramian
-    (``inf`` if unstable)."""
+    """H2 norm of ``(A, B, C, 0)``: ``‖C U‖_F`` with ``U`` the Cholesky
+    factor of its controllability Gramian (``inf`` if unstable)."""
     A, B, C = (np.asarray(M, dtype=float) for M in (A, B, C))
     if A.shape[0] == 0:
         return 0.0
     if not stable_poles(la.eigvals(A), dt):
         return float('inf')
+    U = gramian_factor(A, B, dt)
+    if U is not None:
+        return float(np.linalg.norm(C @ U))
     P = gramian(A, B @ B.T, dt)
     if not np.all(np.isfinite(P)):
         return float('inf')
     return float(np.sqrt(max(np.trace(C @ P @ C.T), 0.0)))
+
+
+def _search_gramian(A, Q, factor_of, dt):
+    """The Gramian ``P`` solving the equation of ``Q = F Fᵀ`` for the
+    search: from :func:`gramian`, or from the factor of
+    :func:`gramian_factor` (``factor_of()`` gives ``F``) where that ``P``
+    is visibly wrong, with a negative diagonal entry.  (The search's paths
+    were measured with the former; with the factor throughout, H2 designs
+    moved by rounding alone, the quadruple tank's three copies from
+    0.5534 to 0.6042.)"""
+    P = gramian(A, Q, dt)
+    if np.all(np.isfinite(P)) and np.any(np.diag(P) < 0):
+        U = gramian_factor(A, factor_of(), dt)
+        if U is not None:
+            return U @ U.T
+    return P
 
 
 def h2_parts(A: np.ndarray, B: np.ndarray, C: np.ndarray, dt: float = 0,
@@ -285,17 +350,23 @@ def h2_parts(A: np.ndarray, B: np.ndarray, C: np.ndarray, dt: float = 0,
     """``(h, dh/dA, dh/dB)`` of the H2 norm ``h`` of a stable
     ``(A, B, C, 0)`` (the derivatives None without ``gradient``; zero
     where ``h = 0``, a minimum)."""
-    Q = gramian(A.T, C.T @ C, dt)
+    Q = _search_gramian(A.T, C.T @ C, lambda: C.T, dt)
     if not np.all(np.isfinite(Q)):
         return np.inf, (np.zeros_like(A) if gradient else None), \
             (np.zeros_like(B) if gradient else None)
     J = float(np.sum(B * (Q @ B)))
+    if J < 0:
+        # rounding made the Gramian indefinite; its factor cannot be
+        W = gramian_factor(A.T, C.T, dt)
+        if W is not None:
+            Q = W @ W.T
+            J = float(np.sum((W.T @ B) ** 2))
     h = float(np.sqrt(max(J, 0.0)))
     if not gradient:
         return h, None, None
     if h == 0.0 or not np.isfinite(h):
         return h, np.zeros_like(A), np.zeros_like(B)
-    P = gramian(A, B @ B.T, dt)
+    P = _search_gramian(A, B @ B.T, lambda: B, dt)
     if not np.all(np.isfinite(P)):
         return np.inf, np.zeros_like(A), np.zeros_like(B)
     dA = Q @ (A @ P if dt else P)
