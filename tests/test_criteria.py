@@ -2,8 +2,11 @@
 max_h2=): every number is checked against an independent source —
 python-control's Kalman filters (``ct.lqe``/``ct.dlqe``), its H2 and H∞
 norms (``ct.norm``), a closed-form scalar Riccati solution, finite
-differences — never against the code that produced it."""
+differences, the exact Gramian in rational arithmetic — never against the
+code that produced it."""
 
+import pathlib
+import sys
 import warnings
 
 import numpy as np
@@ -16,6 +19,9 @@ from controlext.exceptions import (ArgumentError, ControlextError,
 from controlext.synthesis import ObserverProblem
 from controlext.synthesis.criteria import Criteria, h2_norm, h2_parts
 from controlext.synthesis.objective import Objective
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
+from design_campaign import exact_h2  # noqa: E402
 
 # the README's plant with process noise on both states and sensor noise
 PLANT = ct.ss([[-1, 1], [-1, 0]], [[0], [1]], [[1, 2]], 0)
@@ -212,6 +218,11 @@ def test_h2_norm_closed_form():
     assert h2_norm([[-2.0]], [[1.0]], [[1.0]]) == pytest.approx(0.5)
     assert h2_norm([[0.5]], [[1.0]], [[1.0]], dt=1) == \
         pytest.approx(np.sqrt(4 / 3))
+    # the rational reference of the tests below and of the campaign
+    assert exact_h2(np.array([[-2.0]]), np.array([[1.0]]),
+                    np.array([[1.0]])) == 0.5
+    assert exact_h2(np.array([[0.5]]), np.array([[1.0]]),
+                    np.array([[1.0]]), dt=1) == np.sqrt(4 / 3)
 
 
 @pytest.mark.parametrize('solver', ['slycot', 'fallback'])
@@ -324,53 +335,6 @@ def test_continuous_gramian_of_a_far_from_normal_matrix(b):
         np.sqrt(float(p + r)), rel=1e-3)
 
 
-def _exact_h2(A, B, C, dt):
-    """The H2 norm of ``(A, B, C, 0)`` from the Lyapunov (``dt=0``) or
-    Stein equation of the symmetric Gramian solved exactly, in rational
-    arithmetic on the matrices' binary values (Gauss-Jordan on the
-    ``n (n + 1) / 2`` unknowns)."""
-    from fractions import Fraction
-    n = A.shape[0]
-    a = [[Fraction(float(x)) for x in row] for row in A]
-    b = [[Fraction(float(x)) for x in row] for row in B]
-    c = [[Fraction(float(x)) for x in row] for row in C]
-    unknown = {}
-    for i in range(n):
-        for j in range(i, n):
-            unknown[(i, j)] = len(unknown)
-
-    def at(i, j):
-        return unknown[(min(i, j), max(i, j))]
-    size = len(unknown)
-    M = [[Fraction(0)] * size for _ in range(size)]
-    rhs = [Fraction(0)] * size
-    for (i, j), r in unknown.items():
-        if dt:              # (A P Aᵀ)_ij − P_ij = −(B Bᵀ)_ij
-            for k in range(n):
-                for l in range(n):
-                    M[r][at(k, l)] += a[i][k] * a[j][l]
-            M[r][r] -= 1
-        else:               # (A P)_ij + (P Aᵀ)_ij = −(B Bᵀ)_ij
-            for k in range(n):
-                M[r][at(k, j)] += a[i][k]
-                M[r][at(i, k)] += a[j][k]
-        rhs[r] = -sum(b[i][k] * b[j][k] for k in range(B.shape[1]))
-    for col in range(size):
-        pivot = next(r for r in range(col, size) if M[r][col] != 0)
-        M[col], M[pivot] = M[pivot], M[col]
-        rhs[col], rhs[pivot] = rhs[pivot], rhs[col]
-        for r in range(size):
-            if r != col and M[r][col] != 0:
-                f = M[r][col] / M[col][col]
-                M[r] = [x - f * y for x, y in zip(M[r], M[col])]
-                rhs[r] -= f * rhs[col]
-    P = [[rhs[at(i, j)] / M[at(i, j)][at(i, j)] for j in range(n)]
-         for i in range(n)]
-    trace = sum(row[i] * P[i][j] * row[j] for row in c
-                for i in range(n) for j in range(n))
-    return float(trace) ** 0.5
-
-
 @pytest.mark.parametrize('dt', [0, 1])
 @pytest.mark.parametrize('size', [1e5, 4.7e5, 1e6])
 def test_h2_of_a_far_from_normal_pair(size, dt):
@@ -389,7 +353,7 @@ def test_h2_of_a_far_from_normal_pair(size, dt):
         [[0, 0, 1, -1], [0, 0, 1, 1], [1, 1, 0, 0], [-1, 1, 0, 0]])
     B = 1e3 * np.array([[1.0, 0.2], [0.5, -1.0], [0.3, 0.1], [-0.7, 0.4]])
     C = np.array([[0.24, -0.14, 0.24, -0.14]])
-    exact = _exact_h2(A, B, C, dt)
+    exact = exact_h2(A, B, C, dt)
     assert h2_norm(A, B, C, dt) == pytest.approx(exact, rel=1e-4)
     assert h2_parts(A, B, C, dt, gradient=False)[0] == pytest.approx(
         exact, rel=1e-4)
@@ -406,7 +370,7 @@ def test_h2_where_slycot_raises(dt, monkeypatch):
     A = np.array([[0.5, 0.2], [-0.1, 0.3]]) if dt else \
         np.array([[-1.0, 2.0], [-0.5, -3.0]])
     B, C = np.array([[1.0], [0.5]]), np.array([[1.0, -2.0]])
-    exact = _exact_h2(A, B, C, dt)
+    exact = exact_h2(A, B, C, dt)
     monkeypatch.setattr(criteria, '_sb03od', broken)
     assert criteria.gramian_factor(A, B, dt) is None
     assert h2_norm(A, B, C, dt) == pytest.approx(exact, rel=1e-12)
