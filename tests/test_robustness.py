@@ -358,3 +358,33 @@ def test_modal_message_counts_modes():
     plant = ct.ss([[0.5, 0.0], [0.0, -5.0]], [[1.0], [1.0]], [[1.0, 1.0]], 0)
     with pytest.raises(cx.ArgumentError, match="one mode of A"):
         cx.hinf_observer(plant, decay=6.0, method='modal')
+
+
+def test_partial_placement_moves_only_the_poles_outside():
+    """A discrete 10-state plant with five pole pairs at |z| 0.97-0.99,
+    one output, region |z| < 0.985: the pair at 0.99 is moved, the other
+    eight poles are kept as they are (the error matrix is block
+    triangular in the ordered Schur basis), with a gain of moderate norm.
+    Placing all ten poles instead (python-control's robust placement)
+    measured poles out to |z| = 3.6e3 with a gain of 3.7e11 here."""
+    import scipy.linalg as la
+    from controlext.synthesis.placement import partial_gain
+    rng = np.random.default_rng(7)
+    A0 = la.block_diag(*[r * np.array([[np.cos(t), -np.sin(t)],
+                                       [np.sin(t), np.cos(t)]])
+                         for r, t in [(0.99, 0.02), (0.98, 0.05),
+                                      (0.975, 0.03), (0.97, 0.08),
+                                      (0.972, 0.01)]])
+    Q = np.linalg.qr(rng.normal(size=(10, 10)))[0]
+    A = Q @ A0 @ Q.T
+    C = rng.normal(size=(1, 10))
+    L = partial_gain(A, C, cx.Disk(0.985), cx.Disk(1.0), dt=0.01)
+    poles = np.linalg.eigvals(A - L @ C)
+    assert np.all(np.abs(poles) < 0.985)
+    kept = np.sort_complex(np.linalg.eigvals(A0[2:, 2:]))
+    near = np.sort_complex(poles[np.abs(poles) > 0.9])
+    assert np.max(np.abs(near - kept)) < 1e-9
+    assert np.linalg.norm(L) < 1e3
+    # nothing outside: the zero gain
+    assert not np.any(partial_gain(A, C, cx.Disk(0.995), cx.Disk(1.0),
+                                   dt=0.01))

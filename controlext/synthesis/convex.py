@@ -42,7 +42,7 @@ from ..exceptions import (ArgumentError, ParameterError, SolverError,
                           VerificationError)
 from .lmi import solve_observer_lmi
 from .modal import modal_applies, modal_problem
-from .placement import interior_poles, place_gain
+from .placement import interior_poles, partial_gain, place_gain
 from .regions import Disk, HalfPlane
 from .riccati import (hinf_filter_gain, hinf_filter_level, kalman_filter,
                       regularisations)
@@ -265,11 +265,33 @@ def _installed():
 
 def _placed_design(problem, region):
     """A gain with the error poles placed inside the region (or the
-    stability region): no bound to certify, a start for refinement."""
-    stable = region if region is not None else \
-        Disk(1.0) if problem.dt else HalfPlane(0.0)
-    poles = interior_poles(problem.A, stable, problem.dt)
-    L = place_gain(problem.A, problem.C, poles)
+    stability region): no bound to certify, a start for refinement.  Of
+    the placement of the poles outside the region only
+    (:func:`~controlext.synthesis.placement.partial_gain`) and that of
+    all of them, the one whose poles are deeper inside."""
+    stable = Disk(1.0) if problem.dt else HalfPlane(0.0)
+    target = region if region is not None else stable
+
+    def worst(L):
+        lam = np.linalg.eigvals(problem.A - L @ problem.C)
+        return max(target.worst_margin(lam), stable.worst_margin(lam))
+
+    gains, failure = [], None
+    for place in (lambda: partial_gain(problem.A, problem.C, target, stable,
+                                       problem.dt),
+                  lambda: place_gain(problem.A, problem.C, interior_poles(
+                      problem.A, target, problem.dt))):
+        try:
+            L = place()
+        except (ParameterError, np.linalg.LinAlgError, ValueError) as exc:
+            failure = exc
+            continue
+        if np.all(np.isfinite(L)):
+            gains.append((worst(L), len(gains), L))
+    if not gains:
+        raise failure if isinstance(failure, ParameterError) else \
+            ParameterError(f"pole placement failed: {failure}")
+    L = min(gains)[2]
     return ConvexResult(G=L, gamma_bound=None, gamma_convex=float('nan'),
                         method='placement', stage='placement',
                         solver='placement')

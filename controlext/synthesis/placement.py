@@ -20,11 +20,13 @@ Examples
 import warnings
 
 import numpy as np
+import scipy.linalg as la
 import control as ct
 
 from ..exceptions import ParameterError
 
-__all__ = ['place_gain', 'placement_error', 'interior_poles']
+__all__ = ['place_gain', 'placement_error', 'interior_poles',
+           'partial_gain']
 
 
 def place_gain(A, C, poles):
@@ -95,3 +97,50 @@ def interior_poles(A, region, dt=0):
     width = b - a
     return np.linspace(b - 0.1 * width, a + 0.1 * width, n) if n > 1 else \
         np.array([0.5 * (a + b)])
+
+
+#: a pole of ``A`` within this (relative to ``max(1, |λ|)``) of the
+#: region's edge is moved by :func:`partial_gain`
+EDGE = 1e-3
+
+
+def partial_gain(A, C, region, stable, dt=0):
+    """Observer gain that moves only the eigenvalues of ``A`` outside
+    ``region`` or ``stable`` (or within :data:`EDGE` of an edge) and keeps
+    the others: placement on the leading block of the real Schur form
+    ordered with the moved ones first (``A Z₁ = Z₁ T₁₁``, ``L = Z₁ L₁``,
+    so the error matrix is block triangular with ``T₁₁ − L₁ C Z₁`` and
+    the kept block); the zero gain when none has to move.
+
+    Moving all ``n`` poles of a plant whose poles cluster is
+    ill-conditioned where keeping most of them is not (campaign call
+    1706: a discrete 10-state plant already inside its region, whose
+    full placement came out unstable, and the design was refused).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import controlext as cx
+    >>> from controlext.synthesis.placement import partial_gain
+    >>> A = np.diag([-3.0, 1.0])
+    >>> L = partial_gain(A, np.ones((1, 2)), cx.HalfPlane(1.0),
+    ...                  cx.HalfPlane(0.0))
+    >>> poles = np.sort(np.linalg.eigvals(A - L @ np.ones((1, 2))).real)
+    >>> bool(poles[0] == -3.0 or abs(poles[0] + 3.0) < 1e-9), bool(
+    ...     poles[1] < -1.0)
+    (True, True)
+    """
+    A = np.asarray(A, dtype=float)
+    C = np.asarray(C, dtype=float)
+
+    def moved(re, im):
+        lam = complex(re, im)
+        worst = max(region.worst_margin(lam), stable.worst_margin(lam))
+        return bool(worst > -EDGE * max(1.0, abs(lam)))
+
+    T, Z, k = la.schur(A, output='real', sort=moved)
+    if k == 0:
+        return np.zeros((A.shape[0], C.shape[0]))
+    Z1 = Z[:, :k]
+    poles = interior_poles(T[:k, :k], region, dt)
+    return Z1 @ place_gain(T[:k, :k], C @ Z1, poles)
