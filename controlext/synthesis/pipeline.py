@@ -315,8 +315,12 @@ def synthesise(problem, region, options, convex=None, check=None,
                     "gain_tolerance=") from None
             best = None
     within = bound is None or _within(bound, _bounded_norm(bound, convex.G))
+    # a design without a certified level (the placement fallback) is
+    # refined too: on campaign call 990 (no region) it was the zero gain,
+    # returned at γ 4.8e7
     if best is not None and not (options.refine and (
-            needs_refinement(problem, region) or not within)):
+            needs_refinement(problem, region) or not within or
+            convex.gamma_bound is None)):
         if not within and bound is not None:
             # the convex stage does not hold the bound; refinement does
             warnings.warn(
