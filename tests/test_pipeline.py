@@ -253,21 +253,22 @@ def test_repeated_sub_designs_are_made_once(monkeypatch):
     plant, 18.9 s against 27.6 s); each is made once, and the result is
     that of making every one of them: the same gain to the last bit."""
     import itertools
+    import controlext.synthesis.memo as memo
     import controlext.synthesis.pipeline as pipeline
     plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
     made = []
-    inner = pipeline._synthesise
+    inner = pipeline.synthesise.inner
 
     def counted(*args, **kwargs):
         made.append(args[0].copies)
         return inner(*args, **kwargs)
-    monkeypatch.setattr(pipeline, '_synthesise', counted)
+    monkeypatch.setattr(pipeline.synthesise, 'inner', counted)
     kw = dict(decay=2.5, copies=3, gain_tolerance=1e-3)
     once = cx.coupled_observer(plant, **kw)
     with_memo = len(made)
     made.clear()
     fresh = itertools.count()
-    monkeypatch.setattr(pipeline, '_memo_key', lambda *a: next(fresh))
+    monkeypatch.setattr(memo, 'key_of', lambda *a: next(fresh))
     every = cx.coupled_observer(plant, **kw)
     assert with_memo < len(made)
     assert np.array_equal(once.G, every.G)

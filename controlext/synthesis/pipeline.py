@@ -24,8 +24,6 @@ Examples
 ('lmi', True)
 """
 
-import contextvars
-import copy
 import time
 import warnings
 
@@ -42,6 +40,7 @@ from .convex import convex_stage
 from .refine import refine_gain
 from .regions import region_for
 from .limits import limits_of
+from .memo import memoised, one_design
 from .verify import verify_design
 
 __all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem',
@@ -61,11 +60,8 @@ def design(cls, problem, options, *, decay=None, region=None, system=None,
     the plant in a detectability error.  Every check runs before any
     solver.
     """
-    token = _MEMO.set({})
-    try:
+    with one_design():
         return _design(cls, problem, options, decay, region, system, what)
-    finally:
-        _MEMO.reset(token)
 
 
 def _design(cls, problem, options, decay, region, system, what):
@@ -254,15 +250,14 @@ def _scales(problem, region):
     return rate, rate / max(np.linalg.norm(problem.C, 2), 1e-300)
 
 
+@memoised
 def synthesise(problem, region, options, convex=None, check=None,
                bound=None, floor=None, single=None):
     """Convex stage, refinement where it is conservative, verification.
 
     Inside one :func:`design`, a call repeated with the same problem,
-    region, options, bound and floor (the gain-bound and tolerance
-    ladders and the designs of fewer copies make the same one-copy design
-    many times) returns the first call's result: the result depends on
-    nothing else (the search is seeded).
+    region, options, bound and floor returns the first call's result
+    (:mod:`~controlext.synthesis.memo`).
 
     Parameters
     ----------
@@ -296,45 +291,6 @@ def synthesise(problem, region, options, convex=None, check=None,
     report : DesignReport
         Its verified report.
     """
-    memo = _MEMO.get()
-    if memo is None or check is not None:
-        return _synthesise(problem, region, options, convex, check, bound,
-                           floor, single)
-    key = _memo_key(problem, region, bound, floor)
-    for known, outcome in memo.get(key, ()):
-        if known == options:
-            if isinstance(outcome, Exception):
-                raise outcome
-            return outcome[0].copy(), copy.deepcopy(outcome[1])
-    try:
-        G, report = _synthesise(problem, region, options, convex, check,
-                                bound, floor, single)
-    except (VerificationError, SolverError) as exc:
-        memo.setdefault(key, []).append((options, exc))
-        raise
-    memo.setdefault(key, []).append((options, (G.copy(),
-                                               copy.deepcopy(report))))
-    return G, report
-
-
-#: the results of :func:`synthesise` within the current :func:`design`
-_MEMO: contextvars.ContextVar = contextvars.ContextVar('synthesis_memo',
-                                                       default=None)
-
-
-def _memo_key(problem, region, bound, floor):
-    """What, besides the options, a call of :func:`synthesise` depends
-    on."""
-    arrays = (problem.Ae, problem.Ce, problem.Bwe, problem.Dwe, problem.Cze,
-              np.asarray(problem.weights, dtype=float))
-    return (problem.copies, problem.dt, repr(region), floor,
-            None if bound is None else (float(bound[0]),
-                                        np.asarray(bound[1]).tobytes()),
-            tuple(np.ascontiguousarray(M).tobytes() for M in arrays))
-
-
-def _synthesise(problem, region, options, convex, check, bound, floor,
-                single):
     criteria = options.criteria
     if check is None:
         def check(G, **info):
