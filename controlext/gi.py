@@ -47,12 +47,12 @@ Examples
 from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
-import warnings
 
 import numpy as np
 import scipy.linalg as la
 
 from ._checks import as_matrix, as_plant, check_copies
+from ._warn import warn
 from .exceptions import ArgumentError
 from .observers import Observer
 from .synthesis import ObserverProblem, SynthesisOptions
@@ -268,11 +268,10 @@ def _rows(problem):
                                                          problem.n)
 
 
-def _warn_if_classic(problem, stacklevel=3):
+def _warn_if_classic(problem):
     if not np.any(problem.measure - np.eye(problem.p)):
-        warnings.warn("range(C) is all of R^p (Π = 0): the GI observer "
-                      "equals the classic observer", UserWarning,
-                      stacklevel=stacklevel)
+        warn("range(C) is all of R^p (Π = 0): the GI observer equals the "
+             "classic observer", UserWarning)
 
 
 def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,

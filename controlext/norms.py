@@ -18,6 +18,7 @@ import scipy.linalg as la
 import control as ct
 
 from ._checks import check_finite
+from ._warn import warn
 from .exceptions import ArgumentError, ParameterError
 from ._typing import ArrayLike, Plant
 
@@ -99,8 +100,8 @@ def hinfnorm(sys: Plant, tol: float = 1e-10) -> tuple[float, float]:
     try:
         gamma, fpeak = ct.linfnorm(sys, tol=tol)
     except Exception as exc:          # slycot raised (or is missing)
-        warnings.warn(f"slycot ab13dd failed ({exc!r}); using the level-set "
-                      "fallback", RuntimeWarning, stacklevel=2)
+        warn(f"slycot ab13dd failed ({exc!r}); using the level-set "
+             "fallback", RuntimeWarning)
         gamma, fpeak = _hinfnorm_fallback(sys, tol)
     else:
         # both values are gains at a frequency, so lower bounds: keep the

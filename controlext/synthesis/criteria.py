@@ -45,6 +45,7 @@ import numpy as np
 import scipy.linalg as la
 
 from .._checks import check_choice, check_number
+from .._warn import warn
 from ..exceptions import ArgumentError
 
 try:
@@ -255,7 +256,7 @@ def _gramian(A, Q, dt):
                 # complex Schur form tells them apart
                 marginal = True
             else:
-                warnings.warn(w.message, w.category, stacklevel=2)
+                warn(str(w.message), w.category)
         if not marginal:
             return P
         P = _lyap_schur(A, Q)

@@ -25,10 +25,10 @@ Examples
 """
 
 import time
-import warnings
 
 import numpy as np
 
+from .._warn import warn
 from .._checks import (check_detectable, check_region_reachable,
                        check_system)
 from .floor import filter_floor
@@ -40,11 +40,12 @@ from .convex import convex_stage
 from .refine import refine_gain
 from .regions import region_for
 from .limits import limits_of
+from .conditioning import (gain_bound, gain_norm, meets_bound,
+                           warn_if_extreme, warn_if_fragile, warn_if_held)
 from .memo import memoised, one_design
 from .verify import verify_design
 
-__all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem',
-           'warn_if_extreme']
+__all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem']
 
 
 def design(cls, problem, options, *, decay=None, region=None, system=None,
@@ -114,18 +115,7 @@ def _design(cls, problem, options, decay, region, system, what):
         bound = None
         G, report = synthesise(scaled, region, options, convex=convex,
                                check=check)
-    if bound is not None:
-        norm = _bounded_norm(bound, G)
-        report.stats['max_gain'] = dict(bound=bound[0], norm=norm)
-        if options.max_gain == 'auto' and \
-                0.999 * bound[0] <= norm and _within(bound, norm):
-            # (above the bound only with refine=False, which said so)
-            warnings.warn(
-                f"the gain is held at the default bound max_gain='auto' "
-                f"(1e6 times the plant's scale; γ = {report.hinf:.6g}): "
-                "a design of smaller γ needs a larger gain, which amplifies "
-                "rounding and unmodelled noise; pass max_gain=None (or a "
-                "number) to lift the bound", GainWarning, stacklevel=3)
+    warn_if_held(bound, G, report, options.max_gain)
     warn_if_extreme(scaled, G, report, region)
     G = problem.unscale_gain(G, d)
     # the trade-off reports the H∞ floor γ∞*, whatever was minimised
@@ -140,36 +130,7 @@ def _design(cls, problem, options, decay, region, system, what):
         problem, G, system['name'] or '', floor=floor,
         luenberger=report.stats.get('luenberger_hinf'), region=region,
         hinf=report.hinf)
-    if report.tradeoff.peak > EXTREME:
-        # an initial error (or a rounding error) grows this much before
-        # it decays: the estimator reproduces its error system only to
-        # that many digits fewer (campaign: peaks 2e6-2e8 on defective
-        # and unstable plants, where estimator and error system parted at
-        # 6e-5 relative within 60 steps)
-        peak = report.tradeoff.peak
-        # (inf: its simulation overflowed, as on campaign call 157)
-        size = f"to {peak:.3g}" if np.isfinite(peak) else \
-            "beyond the range of double precision"
-        warnings.warn(
-            f"the averaged error from a unit initial error grows {size} "
-            f"before it decays (γ = "
-            f"{report.hinf:.6g}): the estimator amplifies its own rounding "
-            "as much.  A looser region, or max_gain=, gives a better "
-            "conditioned design", GainWarning, stacklevel=3)
-    lost = report.tradeoff.sensitivity.get(1e-6, 0.0)
-    if report.tradeoff.peak <= EXTREME and \
-            lost > FRAGILE * report.tradeoff.decay:
-        # relative gain errors of 1e-6 (a gain printed to 7 digits) cost
-        # more than a third of the decay: the design is that fragile
-        # (campaign seed 484: γ 3.7e6, decay lost 8.3; seed 819: γ 1.8e6,
-        # lost 1.73 of 3.48; in both estimator and error system parted by
-        # rounding)
-        warnings.warn(
-            f"relative gain errors of 1e-6 cost this design {lost:.3g} of "
-            f"its decay rate {report.tradeoff.decay:.3g} (γ = "
-            f"{report.hinf:.6g}): it is fragile, and its estimator "
-            "amplifies its own rounding.  A looser region, or max_gain=, "
-            "gives a better conditioned design", GainWarning, stacklevel=3)
+    warn_if_fragile(report)
     report.time = time.perf_counter() - start
     return cls.from_problem(problem, G, report=report, **system)
 
@@ -214,40 +175,6 @@ def needs_refinement(problem, region):
     region (one Lyapunov matrix for the bound and the region) or more
     than one copy (a common Lyapunov matrix never beats one copy)."""
     return region is not None or problem.copies > 1
-
-
-def gain_bound(scaled, d, max_gain, region=None):
-    """``(κ, weights)`` of the constraint ``‖diag(weights) G‖₂ <= κ`` on
-    gains ``G`` of the scaled problem (None without a bound): a number
-    bounds the gain in the plant's units (the weights undo the scaling
-    ``d``), ``'auto'`` at ``EXTREME`` times the plant's scale on the
-    unit-free realisation (see :func:`warn_if_extreme`)."""
-    if max_gain is None:
-        return None
-    if max_gain == 'auto':
-        return (EXTREME * _scales(scaled, region)[1],
-                np.ones(scaled.gain_shape[0]))
-    return float(max_gain), np.kron(np.ones(scaled.copies), d)
-
-
-def _bounded_norm(bound, G):
-    """``‖diag(weights) G‖₂`` of a bound ``(κ, weights)``."""
-    return float(np.linalg.norm(bound[1][:, None] * G, 2))
-
-
-def _within(bound, norm):
-    """Does a gain of bounded norm ``norm`` meet the bound ``(κ,
-    weights)`` (to the verification's rounding)?"""
-    return norm <= bound[0] * (1 + 1e-6)
-
-
-def _scales(problem, region):
-    """The plant's scale: the rate ``max(1, ‖A‖, the region's least
-    speed)`` and the gain ``rate / ‖C‖``."""
-    rate = problem.rate
-    if region is not None and not problem.dt:
-        rate = max(rate, -region.stable_interval()[1])
-    return rate, rate / max(np.linalg.norm(problem.C, 2), 1e-300)
 
 
 @memoised
@@ -301,8 +228,8 @@ def synthesise(problem, region, options, convex=None, check=None,
 
     def check(G, **info):
         if bound is not None:
-            norm = _bounded_norm(bound, G)
-            if not _within(bound, norm):
+            norm = gain_norm(bound, G)
+            if not meets_bound(bound, norm):
                 over_bound.append(norm)
                 raise VerificationError(
                     f"the {info.get('stage', 'convex')} design's gain norm "
@@ -325,7 +252,8 @@ def synthesise(problem, region, options, convex=None, check=None,
                     "only refinement holds settling_time= and "
                     "gain_tolerance=") from None
             best = None
-    within = bound is None or _within(bound, _bounded_norm(bound, convex.G))
+    within = bound is None or meets_bound(bound,
+                                          gain_norm(bound, convex.G))
     # a design without a certified level (the placement fallback) is
     # refined too: on campaign call 990 (no region) it was the zero gain,
     # returned at γ 4.8e7
@@ -334,10 +262,9 @@ def synthesise(problem, region, options, convex=None, check=None,
             convex.gamma_bound is None)):
         if not within and bound is not None:
             # the convex stage does not hold the bound; refinement does
-            warnings.warn(
-                f"the convex design's gain norm exceeds the bound "
-                f"{bound[0]:.6g} (refine=False returns it as it is)",
-                GainWarning, stacklevel=4)
+            warn(f"the convex design's gain norm exceeds the bound "
+                 f"{bound[0]:.6g} (refine=False returns it as it is)",
+                 GainWarning)
             return convex.G, verify(convex.G, convex=convex,
                                     gamma_bound=convex.gamma_bound)
         return convex.G, check(convex.G, convex=convex,
@@ -394,13 +321,13 @@ def synthesise(problem, region, options, convex=None, check=None,
         else:
             starts.append((f'gain_tolerance={LADDER * tolerance:.3g}', Gt))
     if bound is not None and not within and \
-            _bounded_norm(bound, convex.G) > GAIN_LADDER * bound[0]:
+            gain_norm(bound, convex.G) > GAIN_LADDER * bound[0]:
         # far above the bound, the convex design is a poor start for it:
         # the design within GAIN_LADDER times the bound is a nearer one
         # (cart-pendulum in mixed units at 0.1x the free gain: seeds 1
         # and 2 refused without it)
         # (a geometric ladder: the square root of the ratio per step)
-        ratio = _bounded_norm(bound, convex.G) / bound[0]
+        ratio = gain_norm(bound, convex.G) / bound[0]
         looser = (max(GAIN_LADDER, np.sqrt(ratio)) * bound[0], bound[1])
         try:
             Gl, _ = synthesise(problem, region, options, convex=convex,
@@ -530,36 +457,3 @@ def _equal(gamma, problem):
 
 #: a canonical state scaling spreading less than this is not applied
 SPREAD = 10.0
-
-#: how far beyond the plant's scale a gain or an error pole may go
-#: before the user is told
-EXTREME = 1e6
-
-#: the share of its decay rate a design may lose to relative gain errors
-#: of 1e-6 before the user is told
-FRAGILE = 1 / 3
-
-
-def warn_if_extreme(problem, G, report, region=None):
-    """Warn (:class:`~controlext.exceptions.GainWarning`) when the gain or
-    the error poles of a design exceed ``EXTREME`` times the plant's
-    scale, measured on the unit-free realisation of
-    :meth:`~controlext.synthesis.ObserverProblem.state_scaling`: the
-    rate ``max(1, ‖A‖, the region's least speed)`` for the poles, that
-    rate over ``‖C‖`` for the gain."""
-    rate, scale = _scales(problem, region)
-    gain = np.linalg.norm(G, 2) / scale
-    fastest = float(np.max(np.abs(report.poles))) / rate \
-        if not problem.dt and report.poles.size else 0.0
-    if gain > EXTREME or fastest > EXTREME:
-        # (a discrete design's poles lie in the unit disk: no rate to say)
-        poles = '' if problem.dt else \
-            f" and its fastest error pole {fastest:.3g} times"
-        warnings.warn(
-            f"the design's gain is {gain:.3g} times the plant's scale"
-            f"{poles} (γ = "
-            f"{report.hinf:.6g}); such a gain amplifies rounding and "
-            "unmodelled noise.  refine=False returns the convex design, "
-            "whose gain is conditioned (its γ within margin= of the convex "
-            "optimum; margin=1.1 gives a smaller gain still)", GainWarning,
-            stacklevel=3)

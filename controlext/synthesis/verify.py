@@ -22,11 +22,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field, asdict
 from typing import TYPE_CHECKING, Any
 
-import warnings
 
 import numpy as np
 import control as ct
 
+from .._warn import warn
 from ..exceptions import VerificationError
 from ..norms import hinfnorm
 from .criteria import NAMES, Criteria, h2_norm
@@ -118,9 +118,9 @@ class DesignReport:
     @property
     def gamma_opt(self) -> float | None:
         """Deprecated alias of :attr:`gamma_convex`."""
-        warnings.warn("DesignReport.gamma_opt is deprecated: it is the convex "
-                      "stage's level, now named gamma_convex (the design's "
-                      "H∞ norm is hinf)", DeprecationWarning, stacklevel=2)
+        warn("DesignReport.gamma_opt is deprecated: it is the convex stage's "
+             "level, now named gamma_convex (the design's H∞ norm is hinf)",
+             DeprecationWarning)
         return self.gamma_convex
 
     def as_dict(self) -> dict[str, Any]:
