@@ -522,7 +522,13 @@ def run_case(case, queue):
 
 def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
     """Run ``calls`` cases; returns a Counter and the details."""
-    ctx = mp.get_context('fork')
+    # each call forks from a fresh server process that has imported the
+    # package, not from the caller: a caller that has run threads (a Dask
+    # cluster, a thread pool, a design's BLAS) can leave a lock held in
+    # the forked child, which then hangs (seen under pytest-xdist)
+    ctx = mp.get_context('forkserver')
+    ctx.set_forkserver_preload(['controlext', 'control', 'cvxpy',
+                                'scipy.linalg'])
     counts, details = collections.Counter(), []
     cases = [make_case(start + k) for k in range(calls)]
     running = []
