@@ -27,7 +27,7 @@ try:
 except ImportError:         # pragma: no cover - a required dependency
     _ab13dd = None
 
-__all__ = ['hinfnorm', 'is_stable']
+__all__ = ['hinfnorm', 'hinfnorm_quiet', 'is_stable']
 
 
 def is_stable(sys_or_poles: Plant | ArrayLike, dt: float | bool = 0) -> bool:
@@ -82,6 +82,33 @@ def hinfnorm(sys: Plant, tol: float = 1e-10) -> tuple[float, float]:
     >>> cx.hinfnorm(ct.tf([1], [1, -1]))
     (inf, inf)
     """
+    gamma, fpeak, failure = _norm(sys, tol)
+    if failure is not None:
+        warn(f"slycot ab13dd failed ({failure}); using the level-set "
+             "fallback", RuntimeWarning)
+    return gamma, fpeak
+
+
+def hinfnorm_quiet(sys: Plant, tol: float = 1e-10) -> tuple[float, float]:
+    """:func:`hinfnorm` without its warning when slycot fails: the norm a
+    design's verification and trade-off report use.  The level-set
+    algorithm's value is the one kept whenever it is larger anyway, so a
+    design verified on it needs no note (campaign call 1906: ab13dd's QR
+    iteration failed on a three-copy error system, and the user was told
+    of it by a RuntimeWarning).
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> from controlext.norms import hinfnorm_quiet
+    >>> round(hinfnorm_quiet(ct.tf([1], [1, 0.2, 1]))[0], 4)
+    5.0252
+    """
+    return _norm(sys, tol)[:2]
+
+
+def _norm(sys, tol):
+    """``(γ, peak frequency, why slycot failed or None)``."""
     if isinstance(sys, ct.TransferFunction):
         if not all(np.all(np.isfinite(c)) for row in sys.num + sys.den
                    for c in row):
@@ -95,13 +122,12 @@ def hinfnorm(sys: Plant, tol: float = 1e-10) -> tuple[float, float]:
         check_finite(np.asarray(getattr(sys, name), dtype=float),
                      f"hinfnorm: {name}")
     if not is_stable(sys):
-        return float('inf'), float('inf')
-    wother = np.nan
+        return float('inf'), float('inf'), None
+    wother, failure = np.nan, None
     try:
         gamma, fpeak = ct.linfnorm(sys, tol=tol)
     except Exception as exc:          # slycot raised (or is missing)
-        warn(f"slycot ab13dd failed ({exc!r}); using the level-set "
-             "fallback", RuntimeWarning)
+        failure = repr(exc)
         gamma, fpeak = _hinfnorm_fallback(sys, tol)
     else:
         # both values are gains at a frequency, so lower bounds: keep the
@@ -116,7 +142,7 @@ def hinfnorm(sys: Plant, tol: float = 1e-10) -> tuple[float, float]:
             gamma, fpeak = other, wother
     if sys.isdtime():
         gamma, fpeak = _attained(sys, gamma, fpeak, wother)
-    return float(gamma), float(fpeak)
+    return float(gamma), float(fpeak), failure
 
 
 def hinfnorm_matrices(A, B, C, D, dt=0, tol=1e-10, poles=None):

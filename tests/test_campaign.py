@@ -110,6 +110,15 @@ def test_placement_fallback_keeps_the_poles_inside(seed):
         assert obs.hinf < 1e-3 * ct.linfnorm(zero)[0]
 
 
+def test_a_norm_fallback_in_verification_is_not_told():
+    """Campaign call 1906 (a marginal plant, three copies): ab13dd failed
+    on one candidate's error system while it was verified, and a
+    RuntimeWarning about the package's fallback reached the user."""
+    counts, details = campaign(1, limit=120.0, start=1906, workers=1)
+    assert details[0][5] == 'verified', details[0]
+    assert details[0][7] == [], details[0]
+
+
 @pytest.mark.parametrize('seed', [702, 1080])
 def test_undetectable_augmented_plant_is_a_right_refusal(seed):
     """A GI-augmented plant whose disturbance mode (s = 0 or z = 1) the

@@ -55,6 +55,31 @@ def test_fallback_when_slycot_raises(monkeypatch, sys):
     assert w == pytest.approx(expected[1], rel=1e-4, abs=1e-6)
 
 
+def test_a_design_does_not_tell_of_the_fallback(monkeypatch):
+    """Campaign call 1906: ab13dd's QR iteration failed while a design
+    was verified, and the user got a RuntimeWarning about the package's
+    own routine.  With slycot broken throughout, the design of the
+    resonant plant is the same to the verification's tolerance, checked
+    by a grid, and warns of nothing; a direct call of hinfnorm still
+    says which algorithm answered."""
+    plant = ct.ss([[0.0, 1.0], [-1.0, -0.2]], [[0.0], [1.0]], [[1.0, 0.0]],
+                  0)
+    whole = cx.hinf_observer(plant, decay=0.5)
+
+    def broken(*args, **kwargs):
+        raise RuntimeError('the QR algorithm did not converge')
+
+    monkeypatch.setattr(norms.ct, 'linfnorm', broken)
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        obs = cx.hinf_observer(plant, decay=0.5)
+        quiet = norms.hinfnorm_quiet(obs)
+    assert obs.hinf == pytest.approx(whole.hinf, rel=1e-6)
+    assert quiet[0] == pytest.approx(grid_peak(obs, -2, 2), rel=1e-6)
+    with pytest.warns(RuntimeWarning, match='level-set'):
+        assert cx.hinfnorm(obs)[0] == quiet[0]
+
+
 def test_discrete_and_discrete_fallback(monkeypatch):
     sys = ct.c2d(ct.ss(ct.tf([1], [1, 0.2, 1])), 0.1)
     gamma, w = cx.hinfnorm(sys)

@@ -46,7 +46,7 @@ import numpy as np
 import scipy.linalg as la
 
 from .._typing import Array, ArrayLike
-from ..norms import hinfnorm
+from ..norms import hinfnorm_quiet
 from .criteria import h2_norm
 from .verify import REGION_TOL, decay_rate
 
@@ -262,7 +262,7 @@ def tradeoff_of(problem: ObserverProblem, G: ArrayLike, name: str = '',
     Acl, Bcl, Ccl, Dcl = problem.error_system(G)
     poles = la.eigvals(Acl)
     if hinf is None:
-        hinf, _ = hinfnorm(ct.ss(Acl, Bcl, Ccl, Dcl, problem.dt))
+        hinf, _ = hinfnorm_quiet(ct.ss(Acl, Bcl, Ccl, Dcl, problem.dt))
     peak, settle = transient(problem, G)
     if luenberger is None and problem.copies == 1:
         luenberger = float(hinf)

@@ -28,7 +28,7 @@ import control as ct
 
 from .._warn import warn
 from ..exceptions import VerificationError
-from ..norms import hinfnorm
+from ..norms import hinfnorm_quiet
 from .criteria import NAMES, Criteria, h2_norm
 from .limits import limits_of
 
@@ -192,7 +192,7 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
                          stats=convex.stats), **info)
     sys = ct.ss(*problem.error_system(G), problem.dt)
     poles = np.linalg.eigvals(sys.A) if sys.nstates else np.zeros(0)
-    gamma, wpeak = hinfnorm(sys)
+    gamma, wpeak = hinfnorm_quiet(sys)
     h2 = None
     if criteria is not None and not criteria.default:
         h2 = h2_norm(sys.A, sys.B, sys.C, problem.dt)
