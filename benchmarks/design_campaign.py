@@ -521,7 +521,11 @@ def run_case(case, queue):
 
 
 def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
-    """Run ``calls`` cases; returns a Counter and the details."""
+    """Run ``calls`` cases; returns a Counter and the details.
+
+    The cases run in processes started by a forkserver, so a script that
+    calls this does so under ``if __name__ == '__main__':`` (the server
+    imports the script's main module)."""
     # each call forks from a fresh server process that has imported the
     # package, not from the caller: a caller that has run threads (a Dask
     # cluster, a thread pool, a design's BLAS) can leave a lock held in
