@@ -12,12 +12,15 @@ from typing import Any, TypeAlias, Union
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ['ArrayLike', 'Array', 'Plant', 'Names', 'ExecutorLike']
+__all__ = ['ArrayLike', 'Array', 'BoolArray', 'Plant', 'Names',
+           'ExecutorLike']
 
 #: anything numpy turns into an array of numbers
 ArrayLike: TypeAlias = npt.ArrayLike
 #: a float array
 Array: TypeAlias = npt.NDArray[np.float64]
+#: a boolean array (a mask)
+BoolArray: TypeAlias = npt.NDArray[np.bool_]
 #: a python-control linear system (``StateSpace`` or ``TransferFunction``)
 Plant: TypeAlias = Any
 #: python-control's system keywords: a count, a base name or the names

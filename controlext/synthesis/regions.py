@@ -32,7 +32,7 @@ import numpy as np
 
 from .._checks import check_number, sample_step
 from ..exceptions import ArgumentError, ParameterError, RegionError
-from .._typing import Array, ArrayLike
+from .._typing import Array, ArrayLike, BoolArray
 
 __all__ = ['Region', 'HalfPlane', 'Disk', 'Sector', 'region_for']
 
@@ -172,7 +172,7 @@ class Region:
         """True if every eigenvalue lies in the region (to ``tol``)."""
         return self.worst_margin(eigs) <= tol
 
-    def inside(self, points: ArrayLike) -> Array:
+    def inside(self, points: ArrayLike) -> BoolArray:
         """Boolean array: which of ``points`` (complex) lie in the region.
 
         Vectorised over any array shape (for shading a grid).

@@ -153,8 +153,9 @@ def transient(problem: ObserverProblem, G: ArrayLike, points: int = 800
         if not np.all(np.isfinite(Y)):
             return float('inf'), float('inf')
         env = np.linalg.svd(Y, compute_uv=False)[:, 0]
-        band = SETTLING_BAND * (start if start > 0 else env.max())
-        if env[-1] <= band and env[-max(2, times.size // 8):].max() <= band:
+        band = SETTLING_BAND * (start if start > 0 else float(np.max(env)))
+        if env[-1] <= band and \
+                float(np.max(env[-max(2, times.size // 8):])) <= band:
             break
         horizon *= 2
     # between two samples: every step in discrete time, SUB exact steps
