@@ -65,11 +65,16 @@ def test_cart_pendulum_pays_little_for_a_bounded_gain():
                                    decay=2.5, **kw),
     lambda kw: cx.gi_observer(ct.ss([[1.0, 1.0], [0.0, -2.0]], [[0.0], [1.0]],
                                     [[1.0, 0.0], [1.0, 0.0]], 0),
-                              [[-0.5, 0.2], [0.0, 1.0]], decay=3.0,
+                              [[-0.5, 0.2], [0.0, 1.0]], decay=1.0,
                               augmented=True, **kw),
     lambda kw: cx.hinf_observer(ct.c2d(UNSTABLE, 0.1), decay=2.0, **kw),
 ], ids=['coupled', 'gi-augmented', 'discrete'])
 def test_every_kind_holds_the_bound(make):
+    """Half the free design's gain is held.  The GI plant is designed at
+    decay 1, where γ itself asks for a fast pole (gain 500-700): at decay
+    3 its γ is flat in the gain, and with numpy 2.5 / scipy 1.18 the free
+    design came out at the least gain that meets the region (25.2 by a
+    brute-force search), so half of it is rightly refused."""
     free = make(dict(max_gain=None))
     bound = 0.5 * np.linalg.norm(free.G, 2)
     obs = make(dict(max_gain=bound))
