@@ -15,7 +15,8 @@ import pytest
 
 BENCH = pathlib.Path(__file__).parent.parent / 'benchmarks'
 sys.path.insert(0, str(BENCH))
-from design_campaign import campaign, design, make_case  # noqa: E402
+from design_campaign import (campaign, design, exact_h2, judge,  # noqa: E402
+                             make_case, rebuild)
 
 
 @pytest.mark.slow
@@ -83,9 +84,19 @@ def test_h2_of_far_from_normal_designs_is_verified(seed):
     normal: SLICOT's SB03MD gave Gramians with negative eigenvalues, and
     the reported H2 norm was 0 against python-control's 2.45605e6 (1313)
     or 2.50e7 against 3.54e7 (1341; the exact Gramian in rational
-    arithmetic gives 3.53682e7)."""
-    counts, details = campaign(1, limit=120.0, start=seed, workers=1)
-    assert details[0][5] == 'verified', details[0]
+    arithmetic gives 3.53682e7).  The design itself depends on the
+    numpy/scipy stack (with numpy 2.5 and scipy 1.18, 1341's has H2
+    1.17e6, and the package is 4.7e-6 from the exact value, python-control
+    7.7e-6): the reported H2 norm is held against the exact one at 1e-4,
+    and every other check of the judge must pass."""
+    case = make_case(seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter('ignore')
+        obs = design(case)
+    why = judge(case, obs)
+    assert why == '' or why.startswith('H2 norm'), why
+    exact = exact_h2(*rebuild(case, obs), case['dt'])
+    assert obs.report.tradeoff.h2 == pytest.approx(exact, rel=1e-4)
 
 
 @pytest.mark.parametrize('seed', [990, 1706])

@@ -223,6 +223,10 @@ def test_h2_norm_closed_form():
                     np.array([[1.0]])) == 0.5
     assert exact_h2(np.array([[0.5]]), np.array([[1.0]]),
                     np.array([[1.0]]), dt=1) == np.sqrt(4 / 3)
+    # an unstable realisation has no Gramian: the Stein solution of
+    # z = 2 is -1/3, and the reference says NaN rather than a complex root
+    assert np.isnan(exact_h2(np.array([[2.0]]), np.array([[1.0]]),
+                             np.array([[1.0]]), dt=1))
 
 
 @pytest.mark.parametrize('solver', ['slycot', 'fallback'])
