@@ -201,10 +201,14 @@ def test_embedded_convex_stage_never_worse_than_theorem_3_10(
 
 
 def test_executor_gives_the_same_design(scalar_plant):
+    import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
     serial = cx.coupled_observer(scalar_plant, decay=2.5,
                                  refine_options={'random_starts': 4})
-    with ProcessPoolExecutor(max_workers=2) as pool:
+    # workers from a forkserver: this process has threads by now, which a
+    # forked worker can deadlock on (Python 3.12+ warns of it)
+    with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing
+                             .get_context('forkserver')) as pool:
         parallel = cx.coupled_observer(scalar_plant, decay=2.5,
                                        executor=pool,
                                        refine_options={'random_starts': 4})

@@ -54,8 +54,11 @@ def test_designs_on_workers_are_the_serial_ones():
     """The reproduction runs its designs on a process pool by default; the
     rows are those of the serial run, digit for digit."""
     import concurrent.futures
+    import multiprocessing
     serial = paper_rows()
-    with concurrent.futures.ProcessPoolExecutor(2) as pool:
+    # (forkserver: this process has threads by now; see test_coupled)
+    with concurrent.futures.ProcessPoolExecutor(
+            2, mp_context=multiprocessing.get_context('forkserver')) as pool:
         parallel = paper_rows(executor=pool)
     assert [(r.case, r.synthesised) for r in parallel] == \
         [(r.case, r.synthesised) for r in serial]
