@@ -375,18 +375,31 @@ EXACT_STATES = 12
 
 
 def exact_h2(A, B, C, dt=0):
-    """The H2 norm of ``(A, B, C, 0)`` from the Lyapunov (``dt=0``) or
-    Stein equation of its symmetric Gramian solved exactly, in rational
-    arithmetic on the matrices' binary values (Gauss-Jordan on the
-    ``n (n + 1) / 2`` unknowns; 5 s at 12 states), then rounded; NaN where
-    the solution is no Gramian (a negative ``tr(C P Cᵀ)``: the matrices'
-    binary values are unstable, though their computed poles are not)."""
+    """The H2 norm of ``(A, B, C, 0)`` from :func:`exact_gramian`, then
+    rounded; NaN where the solution is no Gramian (a negative
+    ``tr(C P Cᵀ)``: the matrices' binary values are unstable, though
+    their computed poles are not)."""
     from fractions import Fraction
-    A, B, C = (np.asarray(M, dtype=float) for M in (A, B, C))
+    P = exact_gramian(A, B, dt)
+    n = len(P)
+    c = [[Fraction(x) for x in row] for row in
+         np.asarray(C, dtype=float).tolist()]
+    trace = sum(row[i] * P[i][j] * row[j] for row in c
+                for i in range(n) for j in range(n))
+    return float(trace) ** 0.5 if trace >= 0 else float('nan')
+
+
+def exact_gramian(A, B, dt=0):
+    """The symmetric solution ``P`` (a list of rows of ``Fraction``) of
+    the Lyapunov (``dt=0``) or Stein equation of the controllability
+    Gramian of ``(A, B)``, solved exactly in rational arithmetic on the
+    matrices' binary values (Gauss-Jordan on the ``n (n + 1) / 2``
+    unknowns; 5 s at 12 states)."""
+    from fractions import Fraction
+    A, B = (np.asarray(M, dtype=float) for M in (A, B))
     n = A.shape[0]
     a = [[Fraction(x) for x in row] for row in A.tolist()]
     b = [[Fraction(x) for x in row] for row in B.tolist()]
-    c = [[Fraction(x) for x in row] for row in C.tolist()]
     unknown = {}
     for i in range(n):
         for j in range(i, n):
@@ -417,11 +430,8 @@ def exact_h2(A, B, C, dt=0):
                 f = M[r][col] / M[col][col]
                 M[r] = [x - f * y for x, y in zip(M[r], M[col])]
                 rhs[r] -= f * rhs[col]
-    P = [[rhs[at(i, j)] / M[at(i, j)][at(i, j)] for j in range(n)]
-         for i in range(n)]
-    trace = sum(row[i] * P[i][j] * row[j] for row in c
-                for i in range(n) for j in range(n))
-    return float(trace) ** 0.5 if trace >= 0 else float('nan')
+    return [[rhs[at(i, j)] / M[at(i, j)][at(i, j)] for j in range(n)]
+            for i in range(n)]
 
 
 def unobservable_outside(case, rtol=1e-9):

@@ -21,7 +21,7 @@ from controlext.synthesis.criteria import Criteria, h2_norm, h2_parts
 from controlext.synthesis.objective import Objective
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
-from design_campaign import exact_h2  # noqa: E402
+from design_campaign import exact_gramian, exact_h2  # noqa: E402
 
 # the README's plant with process noise on both states and sensor noise
 PLANT = ct.ss([[-1, 1], [-1, 0]], [[0], [1]], [[1, 2]], 0)
@@ -314,22 +314,12 @@ def test_continuous_gramian_of_a_far_from_normal_matrix(b):
     the exact solution of the three linear equations of the symmetric
     ``P`` in rational arithmetic, to the accuracy the conditioning
     (about b²) allows."""
-    from fractions import Fraction
     from controlext.synthesis.criteria import gramian
     c, s = np.cos(0.3), np.sin(0.3)
     R = np.array([[c, -s], [s, c]])
     A = R @ np.array([[-1.0, b], [-1.0 / b, -1.0]]) @ R.T
-    (a, e), (f, d) = [[Fraction(float(x)) for x in row] for row in A]
-    # A P + P Aᵀ = -I in p, q, r (P = [[p, q], [q, r]]), by Cramer's rule
-    M = [[2 * a, 2 * e, 0], [f, a + d, e], [0, 2 * f, 2 * d]]
-    rhs = [-1, 0, -1]
-
-    def det(m):
-        return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
-    p, q, r = (det([[rhs[i] if j == k else M[i][j] for j in range(3)]
-                    for i in range(3)]) / det(M) for k in range(3))
+    # A P + P Aᵀ = -I (P = [[p, q], [q, r]])
+    (p, q), (_, r) = exact_gramian(A, np.eye(2))
     ref = np.array([[float(p), float(q)], [float(q), float(r)]])
     with warnings.catch_warnings():
         warnings.simplefilter('error')

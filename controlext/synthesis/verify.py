@@ -22,7 +22,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field, asdict
 from typing import TYPE_CHECKING, Any
 
-
 import numpy as np
 import control as ct
 
