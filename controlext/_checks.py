@@ -243,12 +243,20 @@ def check_weights(weights, copies):
     """Output weights as an array of length ``copies`` summing to one."""
     if weights is None:
         return np.full(copies, 1.0 / copies)
-    w = as_array(weights, 'weights').ravel()
+    w = as_array(weights, 'weights')
+    if w.ndim != 1:
+        raise DimensionError(f"weights must be a 1-D sequence of {copies} "
+                             f"numbers (one per copy); found shape "
+                             f"{w.shape}")
     if w.size != copies:
         raise DimensionError(f"weights has the wrong length; expected "
                              f"{copies} (one per copy) instead of {w.size}")
     if not np.all(np.isfinite(w)):
         raise ParameterError(f"weights must be finite; found {w.tolist()}")
+    if np.any(w < 0):
+        raise ParameterError(f"weights must be >= 0 (the estimate is a "
+                             f"weighted average of the copies); found "
+                             f"{w.tolist()}")
     if abs(w.sum() - 1) > 1e-9:
         raise ParameterError(f"weights must sum to 1; found sum "
                              f"{w.sum():.6g} for weights {w.tolist()}")

@@ -136,6 +136,15 @@ class CoupledObserver(Observer):
         """Coupling gain L2 (copy 2 from copy 1's output)."""
         return self._block(1, 0, 'L2')
 
+    @property
+    def L(self) -> Array:
+        """Not defined: a coupled observer has no single Luenberger gain."""
+        raise AttributeError(
+            "a CoupledObserver has no single gain L: its gain is the block "
+            "matrix Mu (obs.Mu, of shape N n x N p)"
+            + ("; a pair's blocks are obs.K1, obs.L1, obs.L2, obs.K2"
+               if self.copies == 2 else ""))
+
 
 
 def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,

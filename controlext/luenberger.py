@@ -25,7 +25,9 @@ import numpy as np
 
 from ._checks import (as_matrix, check_system, format_mode,
                       unobservable_modes)
-from .exceptions import (ArgumentError, DimensionError, ParameterError,
+from ._warn import warn
+from .exceptions import (ArgumentError, DimensionError, GainWarning,
+                         ParameterError,
                          RegionError, VerificationError)
 from .observers import Observer
 from .synthesis import SynthesisOptions, plant_problem
@@ -147,17 +149,44 @@ def luenberger_observer(plant: Plant, poles: ArrayLike,
         raise RegionError(
             f"poles cannot be placed freely: the mode at "
             f"{format_mode(lam, dt)} is unobservable from C")
+    unstable = poles[np.abs(poles) >= 1] if dt else poles[poles.real >= 0]
+    if unstable.size:
+        where = 'inside the unit circle' if dt else \
+            'in the open left half-plane'
+        raise ParameterError(
+            f"poles must lie {where} (error dynamics that do not decay "
+            f"make no observer); found {np.round(unstable, 6).tolist()}")
     if np.any(np.abs(np.sort_complex(poles) -
                      np.sort_complex(poles.conj())) > 1e-12):
         raise ParameterError("complex poles must come in conjugate pairs; "
                              f"found {poles.tolist()}")
     L = place_gain(A, C, poles)
-    placed = np.linalg.eigvals(A - L @ C)
+    placed, V = np.linalg.eig(A - L @ C)
     err = placement_error(placed, poles)
-    if err > 1e-6 * max(1.0, np.max(np.abs(poles))):
+    scale = max(1.0, float(np.max(np.abs(poles))))
+    # Bauer-Fike: rounding of size eps (‖A‖ + ‖L‖‖C‖) moves the poles by
+    # up to κ(V) times that, whatever the placement algorithm
+    kappa = float(np.linalg.cond(V)) if problem.n else 1.0
+    reach = 10 * max(problem.n, 1) * np.finfo(float).eps * kappa * (
+        np.linalg.norm(A, 2) + np.linalg.norm(L, 2) * np.linalg.norm(C, 2))
+    tol = max(1e-6 * scale, reach)
+    stable = bool(np.all(np.abs(placed) < 1)) if dt else \
+        bool(np.all(placed.real < 0))
+    if err > tol or not stable:
         raise VerificationError(
             f"placed poles {np.round(placed, 6).tolist()} miss the requested "
-            f"{np.round(poles, 6).tolist()} by {err:.3g}")
+            f"{np.round(poles, 6).tolist()} by {err:.3g}, more than the "
+            f"{tol:.3g} that rounding explains (eigenvector condition "
+            f"number {kappa:.3g} of the placed error matrix)"
+            + ("" if stable else " and are not stable") +
+            "; poles spread farther apart, or more sensors, give a better "
+            "conditioned placement")
+    if err > 1e-6 * scale:
+        warn(f"the placed poles miss the requested ones by {err:.3g}: the "
+             f"placement is ill-conditioned (eigenvector condition number "
+             f"{kappa:.3g}), so rounding alone moves its poles that far; "
+             "poles spread farther apart, or more sensors, give a better "
+             "conditioned design", GainWarning)
     report = verify_design(problem, L, method='placement', check=False,
                            time=time.perf_counter() - start)
     return LuenbergerObserver.from_problem(problem, L, report=report,

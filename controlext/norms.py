@@ -43,7 +43,17 @@ def is_stable(sys_or_poles: Plant | ArrayLike, dt: float | bool = 0) -> bool:
     if isinstance(sys_or_poles, ct.LTI):
         poles, dt = ct.poles(sys_or_poles), sys_or_poles.dt
     else:
-        poles = np.asarray(sys_or_poles, dtype=complex)
+        try:
+            poles = np.asarray(sys_or_poles, dtype=complex)
+        except (TypeError, ValueError) as exc:
+            raise ArgumentError("is_stable expects a linear system or a "
+                                "sequence of poles; found "
+                                f"{type(sys_or_poles).__name__} "
+                                f"{sys_or_poles!r}") from exc
+        if isinstance(sys_or_poles, (str, bytes)):
+            raise ArgumentError("is_stable expects a linear system or a "
+                                f"sequence of poles; found str "
+                                f"{sys_or_poles!r}")
     if poles.size == 0:
         return True
     return bool(np.abs(poles).max() < 1 if dt else poles.real.max() < 0)
@@ -209,11 +219,7 @@ def _attained(sys, gamma, *freqs):
         return gamma, freqs[0]
 
     def gain(theta):
-        z = np.exp(1j * theta)
-        with warnings.catch_warnings():
-            # an ill-conditioned resolvent is what this step is for
-            warnings.simplefilter('ignore', la.LinAlgWarning)
-            return la.svdvals(C @ la.solve(z * np.eye(n) - A, B) + D)[0]
+        return _resolvent_gain(A, B, C, D, np.exp(1j * theta))
 
     grid = np.linspace(0, np.pi, 257)
     known = [min(abs(w) * dt, np.pi) for w in freqs if np.isfinite(w)]
@@ -248,8 +254,23 @@ def _bilinear(A, B, C, D):
 
 
 def _sigma_max(A, B, C, D, w):
+    return _resolvent_gain(A, B, C, D, 1j * w)
+
+
+def _resolvent_gain(A, B, C, D, s):
+    """``σmax(C (sI − A)⁻¹ B + D)``; ``inf`` where ``sI − A`` is singular
+    in floating point (a pole on the boundary to rounding: the gain there
+    is unbounded, and a lower bound of the norm must not be lost)."""
     n = A.shape[0]
-    G = C @ la.solve(1j * w * np.eye(n) - A, B) + D
+    with warnings.catch_warnings():
+        # an ill-conditioned resolvent is what the callers look for
+        warnings.simplefilter('ignore', la.LinAlgWarning)
+        try:
+            G = C @ la.solve(s * np.eye(n) - A, B) + D
+        except (np.linalg.LinAlgError, ValueError):
+            return float('inf')
+    if not np.all(np.isfinite(G)):
+        return float('inf')
     return la.svdvals(G)[0] if G.size else 0.0
 
 

@@ -31,7 +31,7 @@ import scipy.linalg as la
 import control as ct
 
 from ._checks import as_matrix, as_plant
-from .exceptions import ArgumentError
+from .exceptions import ArgumentError, DimensionError, ParameterError
 from ._typing import ArrayLike, Plant
 
 if TYPE_CHECKING:
@@ -135,7 +135,7 @@ def simulate(plant: Plant, observers: Observer | Sequence[Observer],
     Bw = as_matrix(Bw, 'Bw', (n, None))
     q = Bw.shape[1]
     Dw = np.eye(p, q) if Dw is None else as_matrix(Dw, 'Dw', (p, q))
-    T = np.asarray(T, dtype=float)
+    T = _time_grid(T, dt)
     ests = [o.estimator() for o in group]
     for est in ests:
         if est.ninputs != m + p or est.noutputs != n:
@@ -158,7 +158,8 @@ def simulate(plant: Plant, observers: Observer | Sequence[Observer],
         off += ne
     Bbig = np.hstack([np.vstack(Bu), np.vstack(Bw_rows)])
     rows = [np.hstack([np.eye(n), np.zeros((n, N - n))])]
-    labels = [f'x[{i}]' for i in range(n)]
+    names = _state_names(plant, n)
+    labels = list(names)
     off = n
     xh_rows = []
     for est in ests:
@@ -169,10 +170,10 @@ def simulate(plant: Plant, observers: Observer | Sequence[Observer],
         off += ne
     for k, Ck in enumerate(xh_rows):
         rows.append(Ck)
-        labels += [f'xhat{k + 1}[{i}]' for i in range(n)]
+        labels += [f'xhat{k + 1}[{key}]' for key in _keys(names)]
     for k, Ck in enumerate(xh_rows):
         rows.append(Ck - rows[0])
-        labels += [f'e{k + 1}[{i}]' for i in range(n)]
+        labels += [f'e{k + 1}[{key}]' for key in _keys(names)]
     Cbig = np.vstack(rows)
     sys = ct.ss(Abig, Bbig, Cbig, np.zeros((Cbig.shape[0], m + q)), dt,
                 inputs=[f'u[{i}]' for i in range(m)] +
@@ -191,8 +192,61 @@ def simulate(plant: Plant, observers: Observer | Sequence[Observer],
                               X0=np.concatenate(X0))
 
 
+def _time_grid(T, dt):
+    """The time points as a checked 1-D array: finite, increasing, and
+    in whole steps of ``dt`` for a discrete plant."""
+    try:
+        T = np.asarray(T, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentError("timepts must be an array of times; found "
+                            f"{type(T).__name__}") from exc
+    if T.ndim != 1 or T.size < 2:
+        raise DimensionError("timepts must be a 1-D array of at least two "
+                             f"times; found shape {T.shape}")
+    if not np.all(np.isfinite(T)):
+        raise ParameterError("timepts must be finite; found NaN or inf")
+    steps = np.diff(T)
+    if np.any(steps <= 0):
+        raise ParameterError("timepts must increase strictly; found a step "
+                             f"of {steps.min():.6g}")
+    if dt:
+        step = 1.0 if dt is True else float(dt)
+        ratio = steps / step
+        if np.any(np.abs(ratio - np.round(ratio)) > 1e-6 * np.maximum(
+                1.0, ratio)):
+            bad = float(steps[int(np.argmax(np.abs(ratio -
+                                                   np.round(ratio))))])
+            raise ParameterError(
+                f"timepts must be in whole steps of the plant's dt = "
+                f"{step:g}; found a step of {bad:.6g} (use, e.g., "
+                f"np.arange(0, tf, {step:g}))")
+    return T
+
+
+def _state_names(plant, n):
+    """The plant's state names (python-control's ``x[i]`` by default)."""
+    names = getattr(plant, 'state_labels', None)
+    if names is None or len(names) != n:
+        return [f'x[{i}]' for i in range(n)]
+    return list(names)
+
+
+def _keys(names):
+    """What goes between the brackets of ``xhat1[...]``: the index for
+    python-control's default names, else the state's name."""
+    return [str(i) if name == f'x[{i}]' else name
+            for i, name in enumerate(names)]
+
+
 def _signal(sig, channels, T, name):
-    arr = np.asarray(sig, dtype=float)
+    try:
+        arr = np.asarray(sig, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentError(f"{name} must be numbers; found "
+                            f"{type(sig).__name__}") from exc
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name} must be finite; found NaN or inf "
+                             "(every output would be NaN)")
     if arr.ndim == 0:
         return np.full((channels, len(T)), float(arr))
     if arr.ndim == 1 and arr.size == channels and arr.size != len(T):

@@ -28,11 +28,13 @@ Examples
 
 import numpy as np
 
+from .._checks import sample_step
 from .._warn import warn
 from ..exceptions import GainWarning
 
-__all__ = ['EXTREME', 'FRAGILE', 'gain_bound', 'gain_norm', 'meets_bound',
-           'warn_if_held', 'warn_if_extreme', 'warn_if_fragile']
+__all__ = ['EXTREME', 'FRAGILE', 'NEGLIGIBLE', 'SLOW', 'FAST', 'gain_bound',
+           'gain_norm', 'meets_bound', 'warn_if_held', 'warn_if_extreme',
+           'warn_if_degenerate', 'warn_if_fragile']
 
 #: how far beyond the plant's scale a gain or an error pole may go
 #: before the user is told
@@ -41,6 +43,19 @@ EXTREME = 1e6
 #: the share of its decay rate a design may lose to relative gain errors
 #: of 1e-6 before the user is told
 FRAGILE = 1 / 3
+
+#: a gain below this share of the plant's scale is taken for none at all
+NEGLIGIBLE = 1e-6
+
+#: an error decaying at less than this share of the plant's rate lingers
+#: a hundred and more of the plant's time constants: no decay to speak of
+SLOW = 1e-2
+
+#: error poles this many times faster than both the region's speed and
+#: the plant's own modes are far beyond what the region asks (observers
+#: are commonly made 2-10 times faster than the loop they serve, and a
+#: hundredfold on purpose: this is well past both)
+FAST = 500.0
 
 _ADVICE = ("A looser region, or max_gain=, gives a better conditioned "
            "design")
@@ -108,6 +123,7 @@ def warn_if_extreme(problem, G, report, region=None):
     fastest = float(np.max(np.abs(report.poles))) / rate \
         if not problem.dt and report.poles.size else 0.0
     if gain > EXTREME or fastest > EXTREME:
+        report.stats['extreme'] = True
         # (a discrete design's poles lie in the unit disk: no rate to say)
         poles = '' if problem.dt else \
             f" and its fastest error pole {fastest:.3g} times"
@@ -117,6 +133,55 @@ def warn_if_extreme(problem, G, report, region=None):
              "convex design, whose gain is conditioned (its γ within "
              "margin= of the convex optimum; margin=1.1 gives a smaller "
              "gain still)", GainWarning)
+
+
+def warn_if_degenerate(problem, G, report, region=None):
+    """Warn when a verified design is degenerate: its gain is all but
+    zero (the observer ignores its sensors), its error all but does not
+    decay, or its error poles are far faster than the region asks; each
+    warning says what to change.  Measured on the unit-free realisation,
+    like :func:`warn_if_extreme` (which, when it warned, says enough)."""
+    if report.stats.get('extreme'):
+        return
+    rate, scale = _scales(problem, region)
+    gain = np.linalg.norm(G, 2) / scale
+    if gain < NEGLIGIBLE:
+        warn(f"the design's gain is {gain:.3g} times the plant's scale: the "
+             "observer all but ignores its measurements (with measurement "
+             "noise only, a plant that already meets the region is best "
+             "left unobserved).  Give process noise Bw= (how disturbances "
+             "enter the plant), or a decay= faster than the plant's own, "
+             "for an observer that uses its sensors", GainWarning)
+        return
+    # the plant's own speed: its fastest mode (its scale where every mode
+    # is at 0, as in a chain of integrators)
+    modes = float(np.max(np.abs(np.linalg.eigvals(problem.A)))) \
+        if problem.n else 0.0
+    if problem.dt:
+        speed = report.decay * sample_step(problem.dt)
+    else:
+        speed = report.decay / (modes if modes > 1e-9 * rate else rate)
+    if region is None and speed < SLOW:
+        warn(f"the design's error decays at the rate {report.decay:.3g}, "
+             f"{speed:.3g} of the plant's scale: without a region the "
+             "optimum leaves a mode all but where it was, and an initial "
+             "error lingers for about 1/decay.  Ask for decay= (the rate "
+             "you need)", GainWarning)
+        return
+    if region is None or problem.dt or not report.poles.size:
+        return
+    asked = max(-region.stable_interval()[1],
+                float(np.max(np.abs(np.linalg.eigvals(problem.A))))
+                if problem.n else 0.0)
+    fastest = float(np.max(np.abs(report.poles)))
+    if asked > 0 and fastest > FAST * asked:
+        warn(f"the design's fastest error pole, {fastest:.3g}, is "
+             f"{fastest / asked:.3g} times faster than the region and the "
+             f"plant's modes ask (gain {np.linalg.norm(G, 2):.3g}): the "
+             "last bits of γ are bought with a large gain, which amplifies "
+             "unmodelled noise.  max_gain= bounds the gain (at some γ), and "
+             "process noise Bw= weighs what the sensors cannot see",
+             GainWarning)
 
 
 def warn_if_fragile(report):

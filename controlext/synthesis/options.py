@@ -21,7 +21,7 @@ controlext.exceptions.ArgumentError: unrecognized refinement option(s): 'seed' (
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import MISSING, dataclass, field, fields, replace
 from typing import Any
 
 from .._checks import check_choice, check_number
@@ -197,6 +197,11 @@ class RefineOptions:
         return cls(**value)
 
 
+#: the largest margin: a certificate at ten times the convex optimum
+#: certifies nothing a user would ask for
+MAX_MARGIN = 10.0
+
+
 @dataclass(frozen=True)
 class SynthesisOptions:
     """How a design is synthesised; checked completely on construction.
@@ -271,7 +276,8 @@ class SynthesisOptions:
 
     def __post_init__(self):
         set_ = lambda name, value: object.__setattr__(self, name, value)
-        set_('margin', check_number(self.margin, 'margin', low=1))
+        set_('margin', check_number(self.margin, 'margin', low=1,
+                                    high=MAX_MARGIN))
         set_('method', check_choice(self.method, 'method', METHODS))
         set_('seed', check_number(self.seed, 'seed', integer=True, low=0))
         if not isinstance(self.refine, (bool,)):
@@ -329,8 +335,13 @@ class SynthesisOptions:
             raise ArgumentError("options must be a SynthesisOptions; found "
                                 f"{type(options).__name__}")
         defaults = {f.name: f.default for f in fields(cls)}
+        # None means "not given" only where the field allows it (its
+        # default is None or built by a factory from None): method=None or
+        # margin=None is a mistake, refused by the checks
+        optional = {f.name for f in fields(cls)
+                    if f.default is None or f.default is MISSING}
         changes = {key: value for key, value in keywords.items()
-                   if not ((value is None and key != 'max_gain') or
+                   if not ((value is None and key in optional) or
                            value is defaults[key] or
                            (isinstance(value, (int, float, str)) and
                             not isinstance(value, bool) and
@@ -343,6 +354,11 @@ class SynthesisOptions:
                   arguments: dict[str, Any]) -> SynthesisOptions:
         """:meth:`from_keywords` with those of a factory's ``arguments``
         (its ``locals()``) that name a field."""
+        if 'decay' in arguments:
+            # checked before the noise model: lqe's habit, hinf_observer(
+            # plant, QN, RN), puts a matrix where the decay goes
+            from .regions import check_decay
+            check_decay(arguments['decay'])
         names = {f.name for f in fields(cls)}
         return cls.from_keywords(options, **{
             key: value for key, value in arguments.items() if key in names})

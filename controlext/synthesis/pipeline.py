@@ -41,7 +41,8 @@ from .refine import refine_gain
 from .regions import region_for
 from .limits import limits_of
 from .conditioning import (gain_bound, gain_norm, meets_bound,
-                           warn_if_extreme, warn_if_fragile, warn_if_held)
+                           warn_if_degenerate, warn_if_extreme,
+                           warn_if_fragile, warn_if_held)
 from .memo import memoised, one_design
 from .verify import verify_design
 
@@ -117,6 +118,8 @@ def _design(cls, problem, options, decay, region, system, what):
                                check=check)
     warn_if_held(bound, G, report, options.max_gain)
     warn_if_extreme(scaled, G, report, region)
+    warn_if_degenerate(scaled, G, report, region)
+    report.stats.pop('extreme', None)
     G = problem.unscale_gain(G, d)
     # the trade-off reports the H∞ floor γ∞*, whatever was minimised
     floor = report.stats.get('floor_level', _no_floor) \

@@ -34,7 +34,7 @@ from .._checks import check_number, sample_step
 from ..exceptions import ArgumentError, ParameterError, RegionError
 from .._typing import Array, ArrayLike, BoolArray
 
-__all__ = ['Region', 'HalfPlane', 'Disk', 'Sector', 'region_for']
+__all__ = ['Region', 'HalfPlane', 'Disk', 'Sector', 'region_for', 'check_decay']
 
 _TOL = 1e-9
 
@@ -58,7 +58,10 @@ class Region:
 
     def __and__(self, other):
         if not isinstance(other, Region):
-            return NotImplemented
+            raise ArgumentError(
+                f"a region intersects only another region (HalfPlane, "
+                f"Disk, Sector or their intersection); found "
+                f"{type(other).__name__} {other!r}")
         domains = {self.domain, other.domain} - {'any'}
         if len(domains) > 1:
             raise ParameterError("cannot intersect a continuous-time region "
@@ -67,6 +70,9 @@ class Region:
                      f"{self._label} & {other._label}")
         out.domain = domains.pop() if domains else 'any'
         return out
+
+    def __rand__(self, other):
+        return self & other
 
     def __repr__(self):
         return self._label
@@ -334,6 +340,31 @@ def _sector_boundary(th, extent, num):
     return [r * -np.exp(1j * th), r * -np.exp(-1j * th)]
 
 
+def check_decay(decay: Any) -> float | None:
+    """A decay rate ``σ > 0`` (None: no decay asked for).
+
+    Examples
+    --------
+    >>> from controlext.synthesis.regions import check_decay
+    >>> check_decay(2)
+    2.0
+    """
+    if decay is not None and np.ndim(decay) > 0 and \
+            not isinstance(decay, str):
+        raise ArgumentError(
+            f"decay must be a number (the rate sigma of Re s <= -sigma); "
+            f"found an array of shape {np.shape(decay)}.  The noise model "
+            "is Bw=, Dw= (not lqe's QN, RN): pass Bw=G for process noise "
+            "entering through G, Dw= for how the noise enters the "
+            "measurements")
+    decay = check_number(decay, 'decay', low=0, optional=True)
+    if decay == 0:
+        raise ParameterError(
+            "decay must be > 0; found 0, which asks for no more than the "
+            "stability every design has: omit decay= for that")
+    return decay
+
+
 def region_for(decay: float | None = None, region: Region | None = None,
                dt: float | bool = 0) -> Region | None:
     """The pole region asked for by ``decay=`` or ``region=``.
@@ -347,7 +378,7 @@ def region_for(decay: float | None = None, region: Region | None = None,
     >>> region_for(decay=1.0), region_for(decay=1.0, dt=0.5)
     (HalfPlane(decay=1), Disk(radius=0.606531, center=0))
     """
-    decay = check_number(decay, 'decay', low=0, optional=True)
+    decay = check_decay(decay)
     if decay is not None and region is not None:
         raise ArgumentError("give either decay= or region=, not both")
     if region is not None and not isinstance(region, Region):
