@@ -322,7 +322,16 @@ def judge(case, obs):
             return (f'H2 norm {mine:.6g} vs python-control {h2:.6g}; the '
                     'exact Gramian of the rebuilt error system is '
                     'indefinite (unstable to rounding)')
-        if not abs(mine - exact) <= 1e-6 * exact + 1e-8 * size:
+        # a double solve is accurate to eps times the condition number of
+        # the Lyapunov operator (call 655, ‖A‖ 4.9e7: 998056 against the
+        # exact 998086, 3e-5 apart, python-control 5.4e-5 the other way)
+        n_ = Acl.shape[0]
+        op = np.kron(Acl, Acl) - np.eye(n_ * n_) if case['dt'] else \
+            np.kron(np.eye(n_), Acl) + np.kron(Acl, np.eye(n_))
+        cond = np.linalg.cond(op)
+        if not abs(mine - exact) <= max(1e-6, 10 * np.finfo(float).eps *
+                                        cond) * \
+                exact + 1e-8 * size:
             return (f'H2 norm {mine:.6g} vs exact {exact:.6g} '
                     f'({mine / exact - 1:+.1e}; python-control '
                     f'{h2 / exact - 1:+.1e})')
