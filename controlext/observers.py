@@ -114,6 +114,15 @@ class Observer(ct.StateSpace):
                 f"{prob.nx}-state, {prob.p}-output {time_}-time plant")
 
     def __repr__(self):
+        # python-control's convention: config.defaults['iosys.repr_format']
+        # chooses 'info' (a summary), 'eval' (an expression that rebuilds
+        # the system: here the error system) or 'latex'
+        fmt = ct.config.defaults.get('iosys.repr_format', 'info')
+        if fmt == 'info':
+            return self._repr_info_()
+        return super().__repr__()
+
+    def _repr_info_(self):
         return (f"<{type(self).__name__} {self.name!r}: copies={self.copies}"
                 f", states={self.problem.nx}, outputs={self.problem.p}, "
                 f"γ={self.hinf:.6g}, decay={self.decay:.6g}, "
@@ -128,10 +137,13 @@ class Observer(ct.StateSpace):
             if digits > 4 else f"{x: .4g}"})
         trade = [] if self.report.tradeoff is None else \
             ['trade-off:', str(self.report.tradeoff)]
+        system = ct.StateSpace.__str__(self)
         return '\n'.join([self._summary(), str(self.report),
                           f"gain norm ‖G‖              "
                           f"{np.linalg.norm(self._G, 2):.6g}"] + trade +
-                         ["G =", gain])
+                         ["G =", gain, "",
+                          "error system (noise w -> estimation error):",
+                          system])
 
     @property
     def tradeoff(self) -> Tradeoff:

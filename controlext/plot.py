@@ -41,7 +41,7 @@ def _plt():
         import matplotlib.pyplot as plt
     except ImportError as exc:          # pragma: no cover
         raise ImportError("plotting needs matplotlib: pip install "
-                          "'controlext[plot]'") from exc
+                          "matplotlib") from exc
     return plt
 
 
@@ -55,21 +55,55 @@ def _axes(ax, ncols=1):
     return ax.flat[0].figure, ax
 
 
-def _finish(a, lines, ax, fig, **legend):
-    """Grid, legend and python-control's ``ControlPlot`` of one axes."""
+def _lines(lines):
+    """python-control's ``ControlPlot.lines``: an array shaped like the
+    axes whose element is the list of that axes' artists."""
+    out = np.empty((1, 1), dtype=object)
+    out[0, 0] = list(lines)
+    return out
+
+
+def _finish(a, lines, ax, fig, legend_loc=None, default_loc='best'):
+    """Grid, legend (none for ``legend_loc=False``, python-control's
+    convention) and the ``ControlPlot`` of one axes."""
     a.grid(True, alpha=0.3)
-    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig,
-                          legend=a.legend(**legend))
+    legend = None if legend_loc is False else \
+        a.legend(loc=legend_loc or default_loc)
+    return ct.ControlPlot(_lines(lines), ax, fig, legend=legend)
 
 
-def _observer_count(resp):
-    return sum(1 for lb in resp.output_labels if lb.startswith('e') and
-               lb.endswith('[0]'))
+def _labels(labels, label, count):
+    """One label per observer from ``labels=`` or python-control's
+    ``label=`` (a string for one observer, or a list)."""
+    if label is not None:
+        if labels is not None:
+            from .exceptions import ArgumentError
+            raise ArgumentError("give labels= or label=, not both")
+        labels = [label] if isinstance(label, str) else list(label)
+    labels = list(labels) if labels is not None else \
+        [f'observer {k + 1}' for k in range(count)]
+    if len(labels) != count:
+        from .exceptions import DimensionError
+        raise DimensionError(f"expected {count} labels (one per observer); "
+                             f"found {len(labels)}")
+    return labels
+
+
+def _layout(resp):
+    """``(n, K)``: the plant's states and the observers of a
+    :func:`controlext.simulate` response, whose outputs are the plant
+    state, then each observer's estimate, then each observer's error,
+    ``n`` signals each."""
+    n = sum(1 for lb in resp.output_labels if lb.startswith('e1['))
+    K = (len(resp.output_labels) // n - 1) // 2 if n else 0
+    return n, K
 
 
 def error_plot(resp: ct.TimeResponseData, labels: Sequence[str] | None = None,
                norm: bool = True, ax: Any = None,
-               title: str | None = None) -> Any:
+               title: str | None = None, *,
+               label: str | Sequence[str] | None = None,
+               legend_loc: str | bool | None = None) -> Any:
     """Estimation errors of a :func:`controlext.simulate` response.
 
     Parameters
@@ -81,7 +115,13 @@ def error_plot(resp: ct.TimeResponseData, labels: Sequence[str] | None = None,
     norm : bool, optional
         Plot ``|e_k(t)|`` (default) instead of each error component.
     ax : matplotlib axes, optional
+        Axes to draw in (default: a new figure).
     title : str, optional
+        Axes title.
+    label : str or list of str, optional
+        python-control's name for ``labels``.
+    legend_loc : str or False, optional
+        Legend location (matplotlib's names); ``False`` draws none.
 
     Returns
     -------
@@ -98,33 +138,57 @@ def error_plot(resp: ct.TimeResponseData, labels: Sequence[str] | None = None,
     >>> cx.error_plot(resp).axes[0, 0].get_ylabel()
     '|e(t)|'
     """
+    n, K = _layout(resp)
+    labels = _labels(labels, label, K)
     fig, ax = _axes(ax)
     a = ax[0, 0]
-    K = _observer_count(resp)
-    n = sum(1 for lb in resp.output_labels if lb.startswith('x['))
-    labels = labels or [f'observer {k + 1}' for k in range(K)]
     lines = []
+    out = np.atleast_2d(resp.outputs)
     for k in range(K):
-        idx = [resp.output_labels.index(f'e{k + 1}[{i}]') for i in range(n)]
-        e = np.atleast_2d(resp.outputs)[idx]
+        first = n * (1 + K + k)
+        e = out[first:first + n]
         if norm:
             lines += a.plot(resp.time, np.linalg.norm(e, axis=0),
                             label=labels[k])
         else:
             for i in range(n):
+                name = resp.output_labels[i]
                 lines += a.plot(resp.time, e[i], label=f'{labels[k]}, '
-                                f'e[{i}]')
+                                f'e[{i if name == f"x[{i}]" else name}]')
     a.axhline(0.0, color='0.6', lw=0.8)
     a.set_xlabel('time t [s]')
     a.set_ylabel('|e(t)|' if norm else 'e(t)')
     a.set_title(title or 'Estimation error')
-    return _finish(a, lines, ax, fig)
+    return _finish(a, lines, ax, fig, legend_loc)
 
 
 def estimate_plot(resp: ct.TimeResponseData,
                   labels: Sequence[str] | None = None, state: int = 0,
-                  ax: Any = None, title: str | None = None) -> Any:
+                  ax: Any = None, title: str | None = None, *,
+                  label: str | Sequence[str] | None = None,
+                  legend_loc: str | bool | None = None) -> Any:
     """True state and each observer's estimate of one state component.
+
+    Parameters
+    ----------
+    resp : control.TimeResponseData
+        From :func:`controlext.simulate`.
+    labels : list of str, optional
+        One label per observer.
+    state : int, optional
+        Which state component (default 0).
+    ax : matplotlib axes, optional
+        Axes to draw in (default: a new figure).
+    title : str, optional
+        Axes title.
+    label : str or list of str, optional
+        python-control's name for ``labels``.
+    legend_loc : str or False, optional
+        Legend location (matplotlib's names); ``False`` draws none.
+
+    Returns
+    -------
+    control.ControlPlot
 
     Examples
     --------
@@ -137,22 +201,23 @@ def estimate_plot(resp: ct.TimeResponseData,
     >>> len(cx.estimate_plot(resp).lines[0, 0])
     2
     """
+    n, K = _layout(resp)
+    labels = _labels(labels, label, K)
+    if not 0 <= state < n:
+        from .exceptions import ParameterError
+        raise ParameterError(f"state must be in 0 ... {n - 1}; found {state}")
     fig, ax = _axes(ax)
     a = ax[0, 0]
-    K = _observer_count(resp)
-    labels = labels or [f'observer {k + 1}' for k in range(K)]
     out = np.atleast_2d(resp.outputs)
-    lines = a.plot(resp.time, out[resp.output_labels.index(f'x[{state}]')],
-                   'r-.', label='plant state')
+    lines = a.plot(resp.time, out[state], 'r-.', label='plant state')
     styles = ['b--', 'k-', 'g:', 'm-']
     for k in range(K):
-        i = resp.output_labels.index(f'xhat{k + 1}[{state}]')
-        lines += a.plot(resp.time, out[i], styles[k % len(styles)],
-                        label=labels[k])
+        lines += a.plot(resp.time, out[n * (1 + k) + state],
+                        styles[k % len(styles)], label=labels[k])
     a.set_xlabel('time t [s]')
-    a.set_ylabel(f'x[{state}] and estimates')
+    a.set_ylabel(f'{resp.output_labels[state]} and estimates')
     a.set_title(title or 'Plant state and estimates')
-    return _finish(a, lines, ax, fig)
+    return _finish(a, lines, ax, fig, legend_loc)
 
 
 def tradeoff_plot(curve: dict[Any, Array], ax: Any = None,
@@ -232,7 +297,7 @@ def design_map_plot(dmap: DesignMap, required_decay: float | None = None,
                             if required_decay is not None else ''))
     if title:
         fig.suptitle(title)
-    return ct.ControlPlot(np.array([[lines]], dtype=object), ax, fig)
+    return ct.ControlPlot(_lines(lines), ax, fig)
 
 
 def pole_region_plot(obs_or_poles: Observer | ArrayLike,
@@ -295,7 +360,7 @@ def pole_region_plot(obs_or_poles: Observer | ArrayLike,
     a.set_ylabel('Im z' if dt else 'Im s')
     a.set_title(title or (f'Error poles in {region}' if region is not None
                           else 'Error poles'))
-    return _finish(a, lines, ax, fig, loc='upper left')
+    return _finish(a, lines, ax, fig, default_loc='upper left')
 
 
 def sweep_plot(result: Sweep, y: str = 'hinf', x: str | None = None,

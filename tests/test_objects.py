@@ -94,16 +94,56 @@ def test_estimator_converges_to_plant_state(second_order_plant):
 
 def test_readable_design(second_order_plant):
     obs = cx.hinf_observer(second_order_plant, decay=1.0, name='obs1')
-    text = repr(obs)
+    with _repr_format('info'):
+        text = repr(obs)
     assert text.startswith("<LuenbergerObserver 'obs1': copies=1")
     assert f"γ={obs.hinf:.6g}" in text and "stage='refined'" in text
     shown = str(obs)
     assert 'H∞ norm (noise → error)' in shown and 'G =' in shown
     assert 'refined' in shown
+    # python-control's print of the system, signal names and matrices
+    plain = ct.ss(obs.A, obs.B, obs.C, obs.D, inputs=obs.input_labels,
+                  outputs=obs.output_labels, states=obs.state_labels)
+    for line in str(plain).splitlines()[1:]:
+        assert line in shown
     html = obs._repr_html_()
     assert '<table>' in html and 'LuenbergerObserver' in html
     assert len(repr(obs.report)) < 200
     assert 'convex bound' in repr(obs.report)
+
+
+class _repr_format:
+    """``config.defaults['iosys.repr_format']`` set for a block."""
+
+    def __init__(self, fmt):
+        self.fmt = fmt
+
+    def __enter__(self):
+        self.old = ct.config.defaults.get('iosys.repr_format')
+        ct.config.defaults['iosys.repr_format'] = self.fmt
+
+    def __exit__(self, *exc):
+        if self.old is None:
+            del ct.config.defaults['iosys.repr_format']
+        else:
+            ct.config.defaults['iosys.repr_format'] = self.old
+
+
+@pytest.mark.skipif('iosys.repr_format' not in ct.config.defaults,
+                    reason="python-control without repr_format (< 0.10.2)")
+def test_repr_follows_python_controls_format(second_order_plant):
+    """'eval' rebuilds the system (here the error system, which the
+    observer is), as python-control's own repr does; 'info' summarises."""
+    obs = cx.LuenbergerObserver(second_order_plant, [[2.0], [5.0]])
+    with _repr_format('eval'):
+        rebuilt = eval(repr(obs), {'StateSpace': ct.StateSpace,
+                                   'array': np.array})
+        assert repr(obs).startswith('StateSpace(')
+    np.testing.assert_array_equal(rebuilt.A, second_order_plant.A -
+                                  np.array([[2.0], [5.0]]) @
+                                  second_order_plant.C)
+    with _repr_format('info'):
+        assert repr(obs).startswith('<LuenbergerObserver')
 
 
 def test_matlab_conventions(second_order_plant):

@@ -210,7 +210,7 @@ def test_printed_gain_keeps_the_decay(plant, decay, copies):
     work), unless the report is at its least, 3 digits."""
     import re
     obs = cx.coupled_observer(plant, decay=decay, copies=copies)
-    text = str(obs).split('G =')[1]
+    text = str(obs).split('G =')[1].split('error system')[0]
     G = np.array([float(x) for x in re.findall(
         r'-?\d+\.\d*(?:e[+-]\d+)?', text)]).reshape(obs.G.shape)
     poles = la.eigvals(obs.problem.error_system(G)[0])
