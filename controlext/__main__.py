@@ -30,6 +30,8 @@ def main(argv=None):
         min(4, os.cpu_count() or 1)
     if workers < 1:
         parser.error(f"--workers must be at least 1; found {workers}")
+    print("Li & Sanfelice, Section IV: published numbers and "
+          "controlext's", flush=True)
     with contextlib.ExitStack() as stack:
         executor = None if workers == 1 else stack.enter_context(
             concurrent.futures.ProcessPoolExecutor(workers))
@@ -37,10 +39,11 @@ def main(argv=None):
         if not args.no_synthesis:
             # the table's designs and the figures' in one batch
             keys = TABLE + ([] if args.no_figures else tradeoff_keys())
+            print(f"designing {len(keys)} observers on {workers} "
+                  f"process{'es' if workers > 1 else ''} (about 20 s on two "
+                  "cores) ...", flush=True)
             designs = run_designs(keys, executor)
         rows = paper_rows(synthesise=not args.no_synthesis, designs=designs)
-        print("Li & Sanfelice, Section IV: published numbers and "
-              "controlext's")
         print(format_table(rows))
         if not args.no_figures:
             from .paper.figures import write_all

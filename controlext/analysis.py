@@ -48,6 +48,15 @@ __all__ = ['spectral_abscissa', 'log_norm', 'eig_condition', 'ISSEstimate',
 def spectral_abscissa(A: ArrayLike) -> float:
     """``α(A) = max Re λ(A)``.
 
+    Parameters
+    ----------
+    A : array_like
+        Square matrix.
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> import controlext as cx
@@ -59,6 +68,15 @@ def spectral_abscissa(A: ArrayLike) -> float:
 
 def log_norm(A: ArrayLike) -> float:
     """Logarithmic 2-norm ``µ(A) = λmax((A + Aᵀ)/2)``.
+
+    Parameters
+    ----------
+    A : array_like
+        Square matrix.
+
+    Returns
+    -------
+    float
 
     Examples
     --------
@@ -77,6 +95,15 @@ def eig_condition(A: ArrayLike) -> float:
     of unit norm, which is within a factor ``√n`` of the minimum (van der
     Sluis); ``inf`` for a defective matrix.
 
+    Parameters
+    ----------
+    A : array_like
+        Square matrix.
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> import controlext as cx
@@ -92,7 +119,19 @@ def eig_condition(A: ArrayLike) -> float:
 @dataclass
 class ISSEstimate:
     """ISS estimate (18): ``β(s, t) = kappa e^{rate t} s``,
-    ``γ(s) = gain s`` (state) and ``output_gain s`` (estimate)."""
+    ``γ(s) = gain s`` (state) and ``output_gain s`` (estimate).
+
+    Attributes
+    ----------
+    kappa : float
+        Eigenvector condition bound of the error matrix.
+    rate : float
+        Its spectral abscissa.
+    mu : float
+        Its logarithmic norm.
+    gain, output_gain : float
+        The ISS gains of the error and of the estimate's error.
+    """
     kappa: float
     rate: float
     mu: float
@@ -109,6 +148,15 @@ def iss_estimate(obs: Observer) -> ISSEstimate:
 
     The gains are ``|K̃| / |µ(Ã)|`` and ``|C| |K̃| / |µ(Ã)|``; they are
     ``inf`` when ``Ã`` is not dissipative (``µ(Ã) >= 0``).
+
+    Parameters
+    ----------
+    obs : Observer
+        Any observer (its error system ``(Ã, K̃, C)``).
+
+    Returns
+    -------
+    ISSEstimate
 
     Examples
     --------
@@ -130,7 +178,17 @@ def iss_estimate(obs: Observer) -> ISSEstimate:
 
 @dataclass
 class ConditionCheck:
-    """Result of a lemma check: ``holds`` and each named condition."""
+    """Result of a lemma check: ``holds`` and each named condition.
+
+    Attributes
+    ----------
+    holds : bool
+        Every condition holds.
+    conditions : dict
+        ``{condition: bool}``, named by the paper's equation numbers.
+    values : dict
+        The quantities the conditions compare.
+    """
     holds: bool
     conditions: dict
     values: dict = field(default_factory=dict)
@@ -151,6 +209,19 @@ def check_lemma_3_2(luenberger: Observer, coupled: Observer,
                     output: bool = False) -> ConditionCheck:
     """Conditions (19)–(22) of Lemma 3.2 (``output=True``: with the output
     maps, as in Theorem 3.5 and (33)).
+
+    Parameters
+    ----------
+    luenberger : Observer
+        The classic (one-copy) observer, ``Ã0`` and ``K̃0``.
+    coupled : Observer
+        The coupled observer, ``Ã`` and ``K̃``.
+    output : bool, optional
+        Use the output maps (the averaged estimate's error).
+
+    Returns
+    -------
+    ConditionCheck
 
     Examples
     --------
@@ -194,6 +265,22 @@ def check_lemma_3_3(luenberger: Observer, coupled: Observer,
     unless given, and ``P`` is the best-conditioned matrix with
     ``Ãᵀ P + P Ã ≤ −2 α P`` (:func:`controlext.synthesis.lmi.decay_certificate`).
 
+    Parameters
+    ----------
+    luenberger : Observer
+        The classic (one-copy) observer, ``Ã0`` and ``K̃0``.
+    coupled : Observer
+        The coupled observer, ``Ã`` and ``K̃``.
+    alpha0, alpha : float, optional
+        The rates ``α0``, ``α`` of the certificates (default: ``fraction``
+        of each observer's decay rate).
+    fraction : float, optional
+        Share of the decay rate used when a rate is not given.
+
+    Returns
+    -------
+    ConditionCheck
+
     Examples
     --------
     >>> import control as ct
@@ -231,6 +318,18 @@ def check_theorem_3_5(luenberger: Observer,
     """Theorem 3.5: the averaged estimate improves on the Luenberger one if
     (19)–(22) (with the output maps) or (23)–(26) hold.
 
+    Parameters
+    ----------
+    luenberger : Observer
+        The classic (one-copy) observer, ``Ã0`` and ``K̃0``.
+    coupled : Observer
+        The coupled observer, ``Ã`` and ``K̃``.
+
+    Returns
+    -------
+    ConditionCheck
+        That of Lemma 3.2 where it holds, else that of Lemma 3.3.
+
     Examples
     --------
     >>> import control as ct
@@ -250,6 +349,18 @@ def check_theorem_3_5(luenberger: Observer,
 
 def steady_state_error(obs: Observer, bias: ArrayLike) -> Array:
     """Steady-state estimation error under a constant noise ``bias``.
+
+    Parameters
+    ----------
+    obs : Observer
+        Any observer (its error system's DC gain is used).
+    bias : array_like or float
+        The constant noise, one value per noise input (a scalar for all).
+
+    Returns
+    -------
+    ndarray
+        The steady-state error, one value per error output.
 
     Examples
     --------
@@ -272,6 +383,23 @@ def crossing_time(luenberger: Observer, coupled: Observer, e0: ArrayLike,
     Simulates both error systems from initial estimation error ``e0`` (in
     every copy) under a constant bias and returns the last time at which
     ``|ē(t)| > |e0(t)|`` (0 if never).
+
+    Parameters
+    ----------
+    luenberger : Observer
+        The classic (one-copy) observer, ``Ã0`` and ``K̃0``.
+    coupled : Observer
+        The coupled observer, ``Ã`` and ``K̃``.
+    e0 : array_like
+        Initial estimation error (the same in every copy).
+    bias : array_like or float
+        Constant noise, one value per noise input (a scalar for all).
+    T : array_like, optional
+        Time points (default: 20 time constants of the slower observer).
+
+    Returns
+    -------
+    float
 
     Examples
     --------
@@ -311,6 +439,24 @@ def tradeoff_curve(plant: Plant, decays: ArrayLike,
     :func:`controlext.tradeoff_plot`).  Keyword arguments go to the
     factories; ``executor`` (any ``concurrent.futures.Executor``) runs the
     designs in parallel.
+
+    Parameters
+    ----------
+    plant : control.StateSpace
+        The plant.
+    decays : array_like
+        Required decay rates.
+    copies : sequence of int, optional
+        Numbers of copies, one curve each (1: the Luenberger observer).
+    executor : concurrent.futures.Executor, optional
+        Runs the designs in parallel.
+    **kwargs
+        Passed to :func:`~controlext.coupled_observer` (noise model,
+        options).
+
+    Returns
+    -------
+    dict
 
     Examples
     --------

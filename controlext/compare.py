@@ -31,7 +31,15 @@ __all__ = ['Comparison', 'compare', 'kalman_observer']
 
 @dataclass(repr=False)
 class Comparison:
-    """Trade-off rows of :func:`compare`; ``str()`` is the table."""
+    """Trade-off rows of :func:`compare`; ``str()`` is the table.
+
+    Attributes
+    ----------
+    rows : list of Tradeoff
+        One row per design.
+    notes : list of str
+        What the table's reader should know (the floor, the Kalman filter).
+    """
     rows: list[Tradeoff]
     notes: list[str] = field(default_factory=list)
 
@@ -74,6 +82,17 @@ def kalman_observer(obs: Observer, name: str = 'kalman'
     ``control.dlqe`` in discrete time, in the predictor form the other
     observers use — gives it, with the correlation of process and sensor
     noise that a shared noise vector ``w`` brings).
+
+    Parameters
+    ----------
+    obs : Observer
+        Its plant and noise model (``Bw``, ``Dw``) are used.
+    name : str, optional
+        System name of the returned observer.
+
+    Returns
+    -------
+    LuenbergerObserver
 
     Raises
     ------

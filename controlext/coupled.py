@@ -53,6 +53,8 @@ class CoupledObserver(Observer):
         Output weights ``c`` (length ``N``, summing to 1; default ``1/N``).
     Bw, Dw, Cz : array_like, optional
         Noise model (see :class:`LuenbergerObserver`).
+    report : DesignReport, optional
+        The design report (computed, method ``'given'``, when omitted).
     name : str, optional
         System name.
     inputs, outputs, states : str or list of str, optional
@@ -231,6 +233,9 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
         Every tunable of the engine (``lmi_max_states``, ``modal_guard``,
         …); the keywords above override it where they differ from their
         defaults.
+    inputs, outputs, states : str or list of str, optional
+        Signal names of the error system (python-control's system
+        keywords; see :class:`~controlext.Observer`).
 
     Returns
     -------

@@ -71,6 +71,17 @@ __all__ = ['GIObserver', 'gi_observer', 'range_basis', 'projection',
 def range_basis(C: ArrayLike, tol: float = 1e-10) -> Array:
     """Orthonormal basis ``U`` of ``range(C)`` (``p × r``).
 
+    Parameters
+    ----------
+    C : array_like
+        Output matrix, ``p × n``.
+    tol : float, optional
+        Singular values below ``tol`` times the largest (or 1) count as 0.
+
+    Returns
+    -------
+    ndarray
+
     Examples
     --------
     >>> import controlext as cx
@@ -85,6 +96,16 @@ def range_basis(C: ArrayLike, tol: float = 1e-10) -> Array:
 
 def projection(C: ArrayLike) -> Array:
     """``Π = I − C C⁺``: projection onto the complement of ``range(C)``.
+
+    Parameters
+    ----------
+    C : array_like
+        Output matrix, ``p × n``.
+
+    Returns
+    -------
+    ndarray
+        ``p × p``.
 
     Examples
     --------
@@ -161,6 +182,8 @@ class GIObserver(Observer):
         ``N r × N p`` for ``N`` copies); required when ``augmented``.
     weights : array_like, optional
         Output weights of the copies.
+    report : DesignReport, optional
+        The design report (computed, method ``'given'``, when omitted).
     name : str, optional
         System name.
     inputs, outputs, states : str or list of str, optional

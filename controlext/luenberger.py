@@ -59,6 +59,8 @@ class LuenbergerObserver(Observer):
         Noise model: ``x' = A x + B u + Bw w``, ``y = C x + D u + Dw w``,
         estimated output ``Cz x``.  Defaults: ``0``, ``I_p``, ``I_n``
         (measurement noise, full-state estimate).
+    report : DesignReport, optional
+        The design report (computed, method ``'given'``, when omitted).
     name : str, optional
         System name.
     inputs, outputs, states : str or list of str, optional
@@ -214,14 +216,15 @@ def hinf_observer(plant: Plant, decay: float | None = None,
 
     Minimises the H∞ norm from noise ``w`` to estimation error
     ``Cz (x̂ − x)`` over gains ``L`` (LMIs in Control's H∞-optimal
-    observer; Theorem 3.12 of Li & Sanfelice, linearised).
+    observer; Theorem 3.12 of Li & Sanfelice, linearised).  Every option
+    is checked before any solver runs.
 
     Parameters
     ----------
     plant : control.StateSpace
         Detectable plant.
     decay : float, optional
-        Required rate of convergence ``σ >= 0``: every error pole has
+        Required rate of convergence ``σ > 0``: every error pole has
         ``Re s <= -σ``.  Shorthand for ``region=cx.HalfPlane(σ)``.
     Bw, Dw, Cz : array_like, optional
         Noise model (see :class:`LuenbergerObserver`).
@@ -296,8 +299,6 @@ def hinf_observer(plant: Plant, decay: float | None = None,
     inputs, outputs, states : str or list of str, optional
         Signal names of the error system (python-control's system
         keywords; see :class:`~controlext.Observer`).
-
-    Every option is checked before any solver runs.
 
     Returns
     -------

@@ -48,7 +48,17 @@ __all__ = ['DesignMap', 'design_map']
 @dataclass
 class DesignMap:
     """Values of a design map; ``gamma[i, j]``, ``decay[i, j]`` belong to
-    ``y[i]``, ``x[j]`` (image convention)."""
+    ``y[i]``, ``x[j]`` (image convention).
+
+    Attributes
+    ----------
+    x, y : ndarray
+        The values of the two gain entries.
+    gamma, decay : ndarray
+        γ and the decay rate over the grid.
+    xentry, yentry : tuple
+        The gain entries that were varied.
+    """
     x: np.ndarray
     y: np.ndarray
     gamma: np.ndarray

@@ -9,7 +9,9 @@ so ``ct.linfnorm(obs)`` is the H∞ gain γ of the papers, ``ct.poles(obs)``
 gives the rate of convergence, ``ct.dcgain(obs)`` the steady-state error
 per unit bias and ``ct.step_response(obs)`` the error under a constant
 bias.  The runnable observer, with inputs ``[y; u]`` and output ``x̂``, is
-:meth:`Observer.estimator`.
+:meth:`Observer.estimator`: pass ``estimator=obs.estimator()``, not
+``obs``, to ``ct.create_statefbk_iosystem`` (which refuses the error
+system with an :class:`~controlext.exceptions.ArgumentError` saying so).
 
 The object and its estimator come from one
 :class:`~controlext.synthesis.ObserverProblem` (the generalised plant the
@@ -33,11 +35,14 @@ Examples
 
 from __future__ import annotations
 
+import sys
 from typing import TYPE_CHECKING, Self
 import numpy as np
 import control as ct
 
 from ._checks import check_name, check_system
+from .exceptions import ArgumentError
+from ._text import table_row
 from .synthesis.floor import filter_floor
 from .synthesis.tradeoff import Tradeoff, tradeoff_of
 from .synthesis.verify import verify_design
@@ -91,6 +96,24 @@ class Observer(ct.StateSpace):
             report = verify_design(problem, self._G, check=False)
         self.report = report
 
+    # python-control's state-feedback builder reads an estimator's state
+    # labels first: an observer there is the error system passed where
+    # the runnable estimator belongs, which would build a wrong loop
+    @property
+    def state_labels(self) -> list[str]:
+        """The error system's state names (python-control's property)."""
+        if sys._getframe(1).f_code.co_name == 'create_statefbk_iosystem':
+            raise ArgumentError(
+                f"estimator={type(self).__name__} is the estimation-error "
+                "system (noise -> error), not a runnable estimator: pass "
+                "estimator=obs.estimator() (inputs [y; u] with the plant's "
+                "labels, output the estimate)")
+        return list(self.state_index.keys())
+
+    @state_labels.setter
+    def state_labels(self, names):
+        ct.InputOutputSystem.state_labels.fset(self, names)
+
     @classmethod
     def from_problem(cls, problem: ObserverProblem, G: ArrayLike,
                      report: DesignReport | None = None,
@@ -132,16 +155,14 @@ class Observer(ct.StateSpace):
         # enough digits that the printed gain keeps the promised region
         digits = 4 if self.report.tradeoff is None else \
             max(4, self.report.tradeoff.digits)
-        gain = np.array2string(self._G, max_line_width=78, formatter={
-            'float_kind': lambda x: f"{x:.{digits - 1}e}"
-            if digits > 4 else f"{x: .4g}"})
+        gain = _matrix_text(self._G, digits)
         trade = [] if self.report.tradeoff is None else \
-            ['trade-off:', str(self.report.tradeoff)]
+            [str(self.report.tradeoff)]
         system = ct.StateSpace.__str__(self)
         return '\n'.join([self._summary(), str(self.report),
-                          f"gain norm ‖G‖              "
-                          f"{np.linalg.norm(self._G, 2):.6g}"] + trade +
-                         ["G =", gain, "",
+                          table_row('gain norm ‖G‖',
+                                    f"{np.linalg.norm(self._G, 2):.6g}")] +
+                         trade + ["G =", gain, "",
                           "error system (noise w -> estimation error):",
                           system])
 
@@ -305,3 +326,18 @@ class Observer(ct.StateSpace):
 
 def _labels(base, count):
     return [f'{base}[{i}]' for i in range(count)]
+
+
+def _matrix_text(M, digits):
+    """A matrix in aligned columns, ``digits`` significant digits, no
+    ``-0``."""
+    M = np.asarray(M, dtype=float) + 0.0
+    if digits > 6:
+        cells = [[f"{x: .{digits - 1}e}" for x in row] for row in M]
+    else:
+        cells = [[f"{x: .{digits}g}" for x in row] for row in M]
+    cells = [[c.replace('-0 ', ' 0 ') if c.strip() in ('-0', '-0.0') else c
+              for c in row] for row in cells]
+    width = max((len(c) for row in cells for c in row), default=0)
+    return '\n'.join('  '.join(c.rjust(width) for c in row)
+                     for row in cells)

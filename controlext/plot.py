@@ -226,6 +226,19 @@ def tradeoff_plot(curve: dict[Any, Array], ax: Any = None,
 
     ``curve`` is the dictionary of :func:`controlext.tradeoff_curve`.
 
+    Parameters
+    ----------
+    curve : dict
+        From :func:`controlext.tradeoff_curve`.
+    ax : matplotlib axes, optional
+        Axes to draw in (default: a new figure).
+    title : str, optional
+        Axes title.
+
+    Returns
+    -------
+    control.ControlPlot
+
     Examples
     --------
     >>> import numpy as np
@@ -258,6 +271,25 @@ def design_map_plot(dmap: DesignMap, required_decay: float | None = None,
     Draws two panels (γ, decay); with ``required_decay`` the contour
     ``decay = required_decay`` is drawn on both, and with ``max_gamma``
     the contour ``γ = max_gamma``.
+
+    Parameters
+    ----------
+    dmap : DesignMap
+        From :func:`controlext.design_map`.
+    required_decay : float, optional
+        Draw the contour of this decay rate.
+    max_gamma : float, optional
+        Draw the contour of this γ.
+    ax : matplotlib axes, optional
+        Two axes to draw in (default: a new figure).
+    labels : (str, str), optional
+        Axis labels of the two gain entries.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    control.ControlPlot
 
     Examples
     --------
@@ -314,6 +346,17 @@ def pole_region_plot(obs_or_poles: Observer | ArrayLike,
         Region to shade (default: the observer's).
     extent : (re_min, re_max, im_min, im_max), optional
         Window (default: around the poles and the region).
+    ax : matplotlib axes, optional
+        Axes to draw in (default: a new figure).
+    title : str, optional
+        Axes title.
+    dt : float or bool, optional
+        Timebase of given poles (draws the unit circle when discrete);
+        an observer's own is used.
+
+    Returns
+    -------
+    control.ControlPlot
 
     Examples
     --------
@@ -367,6 +410,24 @@ def sweep_plot(result: Sweep, y: str = 'hinf', x: str | None = None,
                ax: Any = None, title: str | None = None) -> Any:
     """Metric ``y`` against the swept values, or against metric ``x``
     with the Pareto front drawn (``x='settling_time'`` or ``x='h2'``).
+
+    Parameters
+    ----------
+    result : Sweep
+        From :func:`controlext.sweep`.
+    y : str, optional
+        Metric on the vertical axis (a :class:`~controlext.Tradeoff`
+        field: ``'hinf'``, ``'h2'``, ``'settling_time'``, ...).
+    x : str, optional
+        Metric on the horizontal axis (default: the swept values).
+    ax : matplotlib axes, optional
+        Axes to draw in (default: a new figure).
+    title : str, optional
+        Axes title.
+
+    Returns
+    -------
+    control.ControlPlot
 
     Examples
     --------

@@ -78,12 +78,18 @@ def simulate(plant: Plant, observers: Observer | Sequence[Observer],
     Bw, Dw : array_like, optional
         How ``w`` enters the plant; default: the first observer's noise
         model (for a GI observer, its ``Bw`` and ``Dw = I``).
+    **legacy
+        The legacy names ``T``, ``U``/``u``, ``X0``/``x0``, ``w`` and
+        ``xhat0`` of ``timepts``, ``inputs``, ``initial_state``, ``noise``
+        and ``initial_estimate``.
 
     Returns
     -------
     control.TimeResponseData
-        Outputs ``x[i]``, then ``xhat<k>[i]`` and ``e<k>[i]`` for each
-        observer ``k = 1, 2, ...``.
+        Outputs the plant's state (named as the plant's states), then
+        ``xhat<k>[...]`` and ``e<k>[...]`` for each observer
+        ``k = 1, 2, ...`` (``xhat1[2]`` for python-control's default
+        state names, ``xhat1[velocity]`` for a state named velocity).
 
     Examples
     --------

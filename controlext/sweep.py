@@ -42,7 +42,17 @@ METRICS = ('hinf', 'h2', 'gain_norm', 'peak', 'settling_time', 'decay')
 
 @dataclass(repr=False)
 class Sweep:
-    """The designs of :func:`sweep`: ``values[k]`` gave ``rows[k]``."""
+    """The designs of :func:`sweep`: ``values[k]`` gave ``rows[k]``.
+
+    Attributes
+    ----------
+    parameter : str
+        What was swept (``'decay'``, ``'copies'``, ``'max_gain'``).
+    values : list
+        The swept values.
+    rows : list of Tradeoff
+        The design of each value.
+    """
     parameter: str
     values: list[Any]
     rows: list[Tradeoff]

@@ -76,3 +76,21 @@ def test_state_feedback_loop_with_estimator(kind, dt):
         xhat = 0.5 * (resp.states[2:4] + resp.states[4:6])
     assert np.linalg.norm(xs[:, -1] - xhat[:, -1]) < 1e-6
     assert np.linalg.norm(xs[:, -1]) < 1e-6          # and the loop is stable
+
+
+@pytest.mark.parametrize('kind', ['luenberger', 'coupled', 'gi'])
+def test_the_error_system_is_refused_as_an_estimator(kind):
+    """The observer object is the error system (inputs the noise, outputs
+    the error): python-control would take it for an estimator and build a
+    loop that feeds the error to the regulator.  It is refused, and the
+    message says what to pass; the right call builds the loop."""
+    plant = _plant(0)
+    obs = _observer(kind, plant)
+    K = ct.place(plant.A, plant.B, [-1, -2])
+    with pytest.raises(cx.ArgumentError, match=r'obs\.estimator\(\)'):
+        ct.create_statefbk_iosystem(plant, K, estimator=obs)
+    ctrl, loop = ct.create_statefbk_iosystem(plant, K,
+                                             estimator=obs.estimator())
+    assert loop.nstates == plant.nstates + obs.estimator().nstates
+    # the property still reads as python-control's everywhere else
+    assert obs.state_labels == list(obs.state_index)

@@ -99,7 +99,11 @@ def test_readable_design(second_order_plant):
     assert text.startswith("<LuenbergerObserver 'obs1': copies=1")
     assert f"γ={obs.hinf:.6g}" in text and "stage='refined'" in text
     shown = str(obs)
-    assert 'H∞ norm (noise → error)' in shown and 'G =' in shown
+    assert 'H∞ norm γ, noise → error' in shown and 'G =' in shown
+    # plain words for how the gain was found, aligned rows, no -0
+    assert 'refined on the true norm' in shown and '-0 ' not in shown
+    for line in shown.split('G =')[0].splitlines()[1:]:
+        assert line[27] == ' ' and line[28] != ' ', line
     assert 'refined' in shown
     # python-control's print of the system, signal names and matrices
     plain = ct.ss(obs.A, obs.B, obs.C, obs.D, inputs=obs.input_labels,
@@ -154,6 +158,14 @@ def test_matlab_conventions(second_order_plant):
     np.testing.assert_allclose(est.A, A - L @ C)           # x̂' = (A-LC)x̂+..
     np.testing.assert_allclose(est.C[:1], C)               # ŷ = C x̂
     np.testing.assert_allclose(est.C[1:], np.eye(2))       # x̂
+    # MATLAB's two-argument estim: every input is unmeasured noise, the
+    # estimator's inputs are the measurements y only
+    assert est.ninputs == 1
+    np.testing.assert_allclose(est.B, L)
+    known = cm.estim(second_order_plant, L, [0], [0])       # inputs [y; u]
+    np.testing.assert_allclose(known.B, np.hstack([L, second_order_plant.B]))
+    with pytest.raises(cx.ParameterError, match='known'):
+        cm.estim(second_order_plant, L, [0], [3])
     obs = cx.LuenbergerObserver(second_order_plant, L)
     t = np.linspace(0, 5, 101)
     y, tout, x = cm.obsim(second_order_plant, obs, t, x0=[1.0, 0.0])

@@ -180,16 +180,42 @@ def convex_stage(problem, region, options):
             result.stats['fallback'] = [(name, str(exc))
                                         for name, exc in failures]
         return result
-    if len(failures) == 1:          # the one route asked for
-        raise failures[0][1]
     steps = '; '.join(f"{name}: {exc}" for name, exc in failures)
     last = failures[-1][1]
+    if method != 'auto':
+        _refuse_forced(problem, region, options, failures)
     raise SolverError(
         f"no convex route gave a verified design ({steps}); try a looser "
         "region, a larger margin= (1.1), another solver= or "
         "solver_options={'max_iter': 500}",
         status=getattr(last, 'status', 'failed'),
         stats={'fallback': [(name, str(exc)) for name, exc in failures]})
+
+
+def _refuse_forced(problem, region, options, failures):
+    """Raise the refusal of a forced ``method=``: what failed, and whether
+    the default route designs the problem (tried before refusing)."""
+    method = options.method
+    steps = '; '.join(f"{name}: {exc}" for name, exc in failures)
+    last = failures[-1][1]
+    try:
+        other = convex_stage(problem, region, options.replace(method='auto'))
+    except (SolverError, VerificationError, ParameterError):
+        other = None
+    if other is None:
+        advice = ("the default method='auto' found no design either: try "
+                  "a looser region, a larger margin= (1.1) or another "
+                  "solver=")
+    else:
+        advice = (f"the default method='auto' designs this problem (by its "
+                  f"{other.method} route): omit method=, or pass "
+                  "method='auto'")
+    text = f"method={method!r} failed ({steps}); {advice}"
+    if isinstance(last, SolverError):
+        raise SolverError(text, status=last.status, stats=dict(
+            last.stats, fallback=[(n, str(e)) for n, e in failures],
+            designs_with='auto' if other is not None else None))
+    raise type(last)(text)
 
 
 def _routes(problem, region, options):
@@ -228,8 +254,21 @@ def _routes(problem, region, options):
         riccati = ('kalman', lambda: _kalman_design(problem))
     modal = ('modal lmi', lambda: _modal_design(problem, region, options,
                                                 split))
+    other = [name for name in ('SCS', 'CLARABEL')
+             if name != options.solver_name and name in _installed()]
     if method == 'lmi':
-        return [lmi]
+        # the LMI route retries on a realisation scaled to unit noise and
+        # unit gain (the solver's tolerances are absolute), then with the
+        # other installed solver, before it gives up
+        routes = [lmi, ('lmi (rescaled)',
+                        lambda: _rescaled_lmi(problem, region, options))]
+        if other and options.solver is None and not options.solver_options:
+            # (options given for the default solver are not another's)
+            again = options.replace(solver=other[0],
+                                    solver_options=FALLBACK_OPTIONS[other[0]])
+            routes.append((f'lmi ({other[0]})',
+                           lambda: _lmi_design(problem, region, again)))
+        return routes
     if method == 'riccati':
         return [riccati]
     if method == 'modal':
@@ -240,8 +279,6 @@ def _routes(problem, region, options):
         routes += [riccati, lmi]
     else:
         routes += [lmi] + ([riccati] if riccati_ok else [])
-    other = [name for name in ('SCS', 'CLARABEL')
-             if name != options.solver_name and name in _installed()]
     if other and options.solver is None:
         # a fallback, so a bounded one (SCS took 70 s a solve on a
         # 10-state discrete plant it could not solve either)
@@ -280,7 +317,9 @@ def _placed_design(problem, region):
     for place in (lambda: partial_gain(problem.A, problem.C, target, stable,
                                        problem.dt),
                   lambda: place_gain(problem.A, problem.C, interior_poles(
-                      problem.A, target, problem.dt))):
+                      problem.A, target, problem.dt)),
+                  lambda: riccati_placement(problem.A, problem.C, target,
+                                            problem.dt)):
         try:
             L = place()
         except (ParameterError, np.linalg.LinAlgError, ValueError) as exc:
@@ -295,6 +334,56 @@ def _placed_design(problem, region):
     return ConvexResult(G=L, gamma_bound=None, gamma_convex=float('nan'),
                         method='placement', stage='placement',
                         solver='placement')
+
+
+#: the Riccati placement aims at the region shrunk by this share of its
+#: size, so that rounding keeps the poles inside
+SHRINK = 0.02
+
+
+def riccati_placement(A, C, region, dt=0):
+    """A gain putting every pole of ``A − L C`` inside a half-plane or a
+    disk region, from a Riccati equation rather than eigenvalue
+    assignment: the filter Riccati gain (identity weights) of the plant
+    mapped so that the region, slightly shrunk, becomes the stability
+    region (``A + σ I`` for ``Re s ≤ −σ``; ``(A − c I) / ρ`` for the disk
+    of centre ``c`` and radius ``ρ``).  It exists whenever the pair is
+    detectable in the region, and stays accurate on defective and
+    nearly unobservable plants, where pole placement does not (a GI pair
+    on a defective discrete plant: placement left poles at 0.79 outside
+    the disk of 0.98 it was asked for, and unstable ones).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import controlext as cx
+    >>> from controlext.synthesis.convex import riccati_placement
+    >>> A, C = np.array([[1.0, 1.0], [0.0, 1.0]]), np.array([[1.0, 0.0]])
+    >>> L = riccati_placement(A, C, cx.Disk(0.5), dt=1)
+    >>> bool(np.max(np.abs(np.linalg.eigvals(A - L @ C))) < 0.5)
+    True
+    """
+    import scipy.linalg as la
+    n, p = A.shape[0], C.shape[0]
+    if type(region) is HalfPlane and not dt:
+        sigma = region.decay + SHRINK * max(1.0, abs(region.decay))
+        As = A + sigma * np.eye(n)
+        try:
+            P = la.solve_continuous_are(As.T, C.T, np.eye(n), np.eye(p))
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise ParameterError(f"Riccati placement failed: {exc}") from exc
+        return P @ C.T
+    if type(region) is Disk:
+        rho = region.radius * (1 - SHRINK)
+        Ad = (A - region.center * np.eye(n)) / rho
+        try:
+            P = la.solve_discrete_are(Ad.T, C.T, np.eye(n), np.eye(p))
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise ParameterError(f"Riccati placement failed: {exc}") from exc
+        Ld = Ad @ P @ C.T @ np.linalg.inv(C @ P @ C.T + np.eye(p))
+        return rho * Ld
+    raise ParameterError(f"Riccati placement needs a half-plane (continuous "
+                         f"time) or a disk region; found {region}")
 
 
 def _kalman_design(problem):
@@ -324,6 +413,21 @@ def _lmi_design(problem, region, options):
                         gamma_convex=sol.gamma_convex, method='lmi', stage='lmi',
                         solver=sol.stats['solver'], status=sol.status,
                         stats={'lmi': sol.stats})
+
+
+def _rescaled_lmi(problem, region, options):
+    """:func:`_lmi_design` on the problem with its noise channels scaled
+    to unit size and its states balanced, the gain mapped back."""
+    d = problem.state_scaling()
+    scaled = problem.scaled(d)
+    noise = max(scaled.noise_scale, 1e-300)
+    scaled = scaled.replace(Bw=scaled.Bw / noise, Dw=scaled.Dw / noise)
+    res = _lmi_design(scaled, region, options)
+    res.G = problem.unscale_gain(res.G, d)
+    res.gamma_bound *= noise
+    res.gamma_convex *= noise
+    res.method = 'lmi'
+    return res
 
 
 def _modal_design(problem, region, options, split):

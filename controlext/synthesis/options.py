@@ -104,7 +104,7 @@ class RefineOptions:
         Polishing segments of gains with up to 64 entries are
         ``max(restart_every, 10 entries)`` steps (at most 600): progress
         near the norm's kinks comes in bursts after restarts.
-    race_keep, race_progress : float
+    race_keep, race_progress, race_reach, race_tie : float
         After each segment a run more than ``race_keep`` behind the
         leader whose last segment gained less than ``race_progress``
         (relative) stops; so does a run whose remaining segments, at the

@@ -47,6 +47,14 @@ class Region:
     ``grad(λ) -> (dg/dRe, dg/dIm)``, ``boundary(extent, num) -> [curves]``
     and ``edge`` the part's boundary as a map of a stability boundary
     (:meth:`edges`), or None.
+
+    Parameters
+    ----------
+    parts : sequence
+        The parts ``(L, M, margin, grad, boundary, edge)`` whose
+        intersection the region is.
+    label : str
+        What ``repr`` shows.
     """
 
     #: 'continuous', 'discrete' or 'any': the time domain the region fits
@@ -244,6 +252,15 @@ class Disk(Region):
     ``'continuous'`` one for the s-plane), so that giving it to a plant of
     the other kind is an error; the default fits either.
 
+    Parameters
+    ----------
+    radius : float
+        Radius, ``> 0``.
+    center : float, optional
+        Centre on the real axis (default 0).
+    domain : {'any', 'continuous', 'discrete'}, optional
+        The time domain the disk is meant for.
+
     Examples
     --------
     >>> import controlext as cx
@@ -273,6 +290,11 @@ class Disk(Region):
 class Sector(Region):
     """Damping ratio at least ``damping`` (continuous time): the cone
     ``|Im s| <= -Re s · tan(acos(damping))``.
+
+    Parameters
+    ----------
+    damping : float
+        Least damping ratio, in ``(0, 1]``.
 
     Examples
     --------

@@ -49,6 +49,7 @@ from .._typing import Array, ArrayLike
 from ..norms import hinfnorm_quiet
 from .criteria import h2_norm
 from .verify import REGION_TOL, decay_rate
+from .._text import table_row
 
 if TYPE_CHECKING:
     from .problem import ObserverProblem
@@ -67,7 +68,22 @@ SUB = 256
 
 @dataclass(repr=False)
 class Tradeoff:
-    """The trade-off numbers of one design (see the module's text)."""
+    """The trade-off numbers of one design (see the module's text).
+
+    Attributes
+    ----------
+    name : str
+        The design's name.
+    hinf, floor, luenberger : float
+        γ, the floor γ∞* and the one-copy γ (None where not known).
+    gain_norm, h2, peak, settling_time, decay : float
+        ‖G‖₂, the H2 norm, the transient's peak and 2 % settling time, the
+        decay rate.
+    sensitivity : dict
+        ``{relative gain error: decay lost}``.
+    digits : int
+        Significant digits the printed gain needs to keep its region.
+    """
     name: str
     hinf: float
     floor: float | None
@@ -93,25 +109,34 @@ class Tradeoff:
         return self.hinf / self.floor - 1.0
 
     def __repr__(self) -> str:
-        return (f"Tradeoff({self.name!r}, hinf={self.hinf:.6g}, "
+        name = f"{self.name!r}, " if self.name else ''
+        return (f"Tradeoff({name}hinf={self.hinf:.6g}, "
                 f"h2={self.h2:.6g}, settling_time={self.settling_time:.4g}, "
                 f"gain_norm={self.gain_norm:.4g})")
 
     def __str__(self) -> str:
         def num(value):
-            return 'n/a' if value is None else f"{value:.6g}"
-        sens = ', '.join(f"{eps:g}: {loss:.3g}"
+            return 'not known' if value is None else f"{value:.6g}"
+        if self.floor is None:
+            floor = 'not known'
+        elif self.floor == 0:
+            floor = ("0  (without a region the noise need not reach the "
+                     "error at all)")
+        else:
+            floor = (f"{self.floor:.6g}  (the least any observer reaches "
+                     "without a region)")
+        lost = ', '.join(f"{loss:.3g} at {eps:g}"
                          for eps, loss in self.sensitivity.items())
-        return '\n'.join([
-            f"γ (H∞ noise → error)      {self.hinf:.6g}   floor γ∞* "
-            f"{num(self.floor)}, one copy {num(self.luenberger)}",
-            f"H2 (RMS per white noise)  {self.h2:.6g}",
-            f"averaged error from e(0)  peak {self.peak:.4g}, 2 % settling "
-            f"{self.settling_time:.4g} s",
-            f"decay {self.decay:.6g}, ‖G‖ {self.gain_norm:.4g}, decay lost "
-            f"under relative gain errors {{{sens}}}",
-            f"the gain keeps its region rounded to {self.digits} "
-            "significant digits"])
+        rows = [('floor γ∞*', floor),
+                ('one copy (Luenberger) γ', num(self.luenberger)),
+                ('H2 norm (white noise RMS)', f"{self.h2:.6g}"),
+                ('transient from e(0)', f"peak {self.peak:.4g}, 2 % "
+                 f"settling {self.settling_time:.4g} s"),
+                ('decay lost to gain errors', f"{lost} (relative error)"
+                 if lost else 'not measured'),
+                ('printed gain needs', f"{self.digits} significant digits "
+                 "to keep its region")]
+        return '\n'.join(table_row(label, value) for label, value in rows)
 
 
 def transient(problem: ObserverProblem, G: ArrayLike, points: int = 800

@@ -27,7 +27,8 @@ import control as ct
 
 from .._warn import warn
 from ..exceptions import VerificationError
-from ..norms import hinfnorm_quiet
+from ..norms import hinfnorm_quiet, hinfnorm_upper
+from .._text import table_row
 from .criteria import NAMES, Criteria, h2_norm
 from .limits import limits_of
 
@@ -134,25 +135,32 @@ class DesignReport:
                 f"convex bound={bound}, time={self.time:.3g} s)")
 
     def __str__(self):
-        lines = [f"H∞ norm (noise → error)   {self.hinf:.6g}"
-                 + (f"  at ω = {self.peak_frequency:.4g} rad/s"
-                    if np.isfinite(self.peak_frequency) else ""),
-                 *([f"H2 norm (white noise)     {self.h2:.6g}"]
-                   if self.h2 is not None else []),
-                 f"decay rate                {self.decay:.6g}"
-                 + (f"  (region {self.region})" if self.region is not None
-                    else "")]
+        peak = (f"  (peak at ω = {self.peak_frequency:.4g} rad/s)"
+                if np.isfinite(self.peak_frequency) else "")
+        lines = [table_row('H∞ norm γ, noise → error',
+                           f"{self.hinf:.6g}{peak}")]
+        rounding = (self.stats or {}).get('hinf_rounding')
+        if rounding:
+            lines.append(table_row(
+                '', f"(an upper bound: double precision evaluates the gain "
+                f"only to ±{rounding:.3g})"))
+        if self.h2 is not None:
+            lines.append(table_row('H2 norm (white noise RMS)',
+                                   f"{self.h2:.6g}"))
+        lines.append(table_row('decay rate', f"{self.decay:.6g}" + (
+            f"  (asked: {self.region})" if self.region is not None else "")))
         if self.gamma_bound is not None:
-            lines.append(f"convex stage: certified   {self.gamma_bound:.6g}"
-                         f", level of its LMI {self.gamma_convex:.6g}"
-                         if self.gamma_convex is not None and
-                         np.isfinite(self.gamma_convex) else
-                         f"convex stage: certified   {self.gamma_bound:.6g}")
+            lines.append(table_row(
+                'convex stage certifies', f"γ ≤ {self.gamma_bound:.6g}"
+                + (f"  (its optimum {self.gamma_convex:.6g})"
+                   if self.gamma_convex is not None and
+                   np.isfinite(self.gamma_convex) else "")))
         if self.criteria is not None and (not self.criteria.default or
                                           self.criteria.limits):
-            lines.append(f"criteria                  {self.criteria}")
-        lines.append(f"gain from                 {self.stage} ({self.method}"
-                     f", {self.time:.3g} s)")
+            lines.append(table_row('criteria', f"{self.criteria}"))
+        lines.append(table_row('how the gain was found',
+                               f"{origin(self.stage, self.method)} "
+                               f"({self.time:.3g} s)"))
         return '\n'.join(lines)
 
 
@@ -166,6 +174,43 @@ def decay_rate(poles, dt=0):
         dt = 1.0 if dt is True else float(dt)
         return float('inf') if rho == 0 else float(-np.log(rho) / dt)
     return float(-np.max(poles.real))
+
+
+#: the convex routes in words
+ROUTES = {'lmi': 'the LMI design',
+          'modal lmi': 'the LMI design on the slow modes',
+          'riccati': 'the Riccati filter',
+          'shifted riccati': 'the Riccati filter of the shifted plant',
+          'kalman': 'the Kalman filter', 'placement': 'pole placement',
+          'given': 'given'}
+
+
+def origin(stage, method) -> str:
+    """How a gain was found, in words, from the report's ``stage`` and
+    ``method`` (for example ``'refined'`` and ``'embedded lmi+refine'``).
+
+    Examples
+    --------
+    >>> from controlext.synthesis.verify import origin
+    >>> origin('refined', 'embedded lmi+refine')
+    'refined on the true norm, from the one-copy LMI design in every copy'
+    >>> origin('riccati', 'riccati')
+    'the Riccati filter'
+    """
+    method = str(method or 'given')
+    base = method.split('+')[0]
+    embedded = base.startswith('embedded ')
+    base = base.replace('embedded ', '')
+    route = ROUTES.get(base, base)
+    if embedded:
+        route = f"the one-copy {route.replace('the ', '', 1)} in every copy"
+    if stage == 'refined':
+        return f"refined on the true norm, from {route}"
+    if method.endswith('+headroom'):
+        return f"{route} (at the floor: nothing to refine)"
+    if '+refine' in method and stage not in (None, base):
+        return f"{route}, with the {stage} design as a start"
+    return route
 
 
 def verify_design(problem, G, region=None, gamma_bound=None, method='given',
@@ -192,6 +237,13 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
     sys = ct.ss(*problem.error_system(G), problem.dt)
     poles = np.linalg.eigvals(sys.A) if sys.nstates else np.zeros(0)
     gamma, wpeak = hinfnorm_quiet(sys)
+    # where double precision cannot evaluate the gain to its eighth digit
+    # (a far from normal error system) the norm is stated as the upper
+    # bound of the computed peak, never below the true one
+    gamma, rounding = hinfnorm_upper(sys, gamma, wpeak, 0.0)
+    if rounding:
+        info = dict(info, stats=dict(info.get('stats') or {},
+                                     hinf_rounding=rounding))
     h2 = None
     if criteria is not None and not criteria.default:
         h2 = h2_norm(sys.A, sys.B, sys.C, problem.dt)

@@ -34,6 +34,12 @@ PYTHON = ('https://docs.python.org/3/', [
     ('int', 'py:class', 'library/functions.html#int'),
     ('str', 'py:class', 'library/stdtypes.html#str'),
     ('bool', 'py:class', 'library/functions.html#bool'),
+    ('list', 'py:class', 'library/stdtypes.html#list'),
+    ('tuple', 'py:class', 'library/stdtypes.html#tuple'),
+    ('object', 'py:class', 'library/functions.html#object'),
+    ('None', 'py:data', 'library/constants.html#None'),
+    ('True', 'py:data', 'library/constants.html#True'),
+    ('False', 'py:data', 'library/constants.html#False'),
     # what numpydoc's type aliases refer to
     ('sequence', 'std:term', 'glossary.html#term-sequence'),
     ('bltin-boolean-values', 'std:label',
