@@ -23,7 +23,7 @@ Examples
 
 from ..sweep import observer
 from ..synthesis.refine import single_threaded
-from .tables import scalar_plant, second_order_plant
+from .plants import scalar_plant, second_order_plant
 
 __all__ = ['TABLE', 'TRADEOFF_DECAYS', 'FIGURE_OPTIONS', 'tradeoff_keys',
            'run_designs', 'designs_for']

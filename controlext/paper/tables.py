@@ -17,22 +17,17 @@ from dataclasses import dataclass
 import numpy as np
 import control as ct
 
+from ..analysis import iss_estimate, log_norm
+from ..coupled import CoupledObserver
+from ..luenberger import LuenbergerObserver
+from .designs import TABLE, designs_for
+from .plants import scalar_plant, second_order_plant
+
 __all__ = ['scalar_plant', 'second_order_plant', 'PaperRow', 'paper_rows',
            'luenberger_rows', 'coupled_rows', 'format_table']
 
 #: measurement bias of Section IV-A
 BIAS = 0.3
-
-
-def scalar_plant(a=-0.5):
-    """The scalar plant (4): ``x' = a x``, ``y = x + m``, ``a = -0.5``."""
-    return ct.ss([[a]], [[1.0]], [[1.0]], [[0.0]], name='scalar')
-
-
-def second_order_plant():
-    """The second-order plant of Section IV-B."""
-    return ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]],
-                 [[0.0]], name='second_order')
 
 
 @dataclass
@@ -59,7 +54,6 @@ def _close(value, published, digits):
 
 def luenberger_rows():
     """Rows for the Luenberger observers of Section IV."""
-    from ..luenberger import LuenbergerObserver
     rows = []
     obs = LuenbergerObserver(scalar_plant(), [[2.0]])
     pole = ct.poles(obs)[0].real
@@ -102,9 +96,6 @@ def coupled_rows(synthesise=True, executor=None, designs=None):
     from ``designs``, a result of
     :func:`~controlext.paper.designs.run_designs`, those it lacks run on
     ``executor`` when given)."""
-    from ..analysis import iss_estimate, log_norm
-    from ..coupled import CoupledObserver
-    from .designs import TABLE, designs_for
     plant = scalar_plant()
     pair = CoupledObserver.from_pair(plant, *PAIR_33)
     eig = ct.poles(pair)

@@ -57,11 +57,11 @@ import numpy as np
 import scipy.linalg as la
 
 from ..norms import hinfnorm_matrices
+from .rates import SETTLING_BAND
+from .tradeoff import transient
 
 __all__ = ['GainTolerance', 'SettlingTime', 'limits_of', 'edges_of']
 
-#: the settling band, relative to the error's start (as the trade-off's)
-BAND = 0.02
 #: grid points per settling time in refinement's envelope
 GRID = 48
 #: how far past the settling time the envelope is checked (in units of T)
@@ -181,7 +181,7 @@ class SettlingTime:
         self.dt = problem.dt
         self.C = problem.Cze
         self.X0 = np.kron(np.ones((problem.copies, 1)), np.eye(problem.n))
-        self.band = BAND * la.svdvals(self.C @ self.X0)[0]
+        self.band = SETTLING_BAND * la.svdvals(self.C @ self.X0)[0]
 
     def _times(self):
         """Grid times ``t >= T`` (whole steps in discrete time)."""
@@ -254,7 +254,6 @@ class SettlingTime:
     def verify(self, problem, G, region=None):
         """The settling time of ``G`` against ``T`` (``<= 1``: met), from
         the dense simulation of the trade-off."""
-        from .tradeoff import transient
         settle = transient(problem, G)[1]
         return settle / self.T if self.T > 0 else \
             (0.0 if settle == 0 else float('inf'))

@@ -45,7 +45,7 @@ from ..exceptions import VerificationError
 from .objective import Objective
 from .options import RefineOptions
 from .placed import near_edge, placed_polish
-from .verify import REGION_TOL
+from .rates import REGION_TOL
 
 try:
     from threadpoolctl import ThreadpoolController

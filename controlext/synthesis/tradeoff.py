@@ -48,7 +48,7 @@ import scipy.linalg as la
 from .._typing import Array, ArrayLike
 from ..norms import hinfnorm_quiet
 from .criteria import h2_norm
-from .verify import REGION_TOL, decay_rate
+from .rates import REGION_TOL, SETTLING_BAND, decay_rate
 from .._text import table_row
 
 if TYPE_CHECKING:
@@ -60,8 +60,6 @@ __all__ = ['Tradeoff', 'tradeoff_of', 'h2_norm', 'transient',
 
 #: relative gain perturbations the sensitivity is reported for
 PERTURBATIONS = (1e-6, 1e-3)
-#: the settling band, relative to the error's start
-SETTLING_BAND = 0.02
 #: exact steps per sample interval where a continuous transient is refined
 SUB = 256
 
@@ -155,8 +153,8 @@ def transient(problem: ObserverProblem, G: ArrayLike, points: int = 800
     for _ in range(8):
         if dt:
             # at most 4 × points samples: a slowly decaying error is
-            # sampled every `stride` steps (seed 30 of the campaign, a
-            # marginal plant, asked for 24 GB one step at a time)
+            # sampled every `stride` steps (one step at a time, a nearly
+            # marginal plant would ask for gigabytes)
             k = max(int(np.ceil(horizon / step)), 1)
             stride = max(1, int(np.ceil(k / (4 * points))))
             times = step * stride * np.arange(int(np.ceil(k / stride)) + 1)
@@ -282,8 +280,7 @@ def tradeoff_of(problem: ObserverProblem, G: ArrayLike, name: str = '',
     is its own one-copy design; ``region`` the design's).  Without
     ``hinf`` the H∞ norm is :func:`~controlext.hinfnorm`'s, as the
     design's verification computes it: ``ab13dd`` alone may miss the peak
-    of a far from normal error system (campaign call 655: 3.82968e6
-    against the verified 3.88088e6)."""
+    of a far from normal error system."""
     G = np.asarray(G, dtype=float)
     Acl, Bcl, Ccl, Dcl = problem.error_system(G)
     poles = la.eigvals(Acl)

@@ -31,6 +31,7 @@ from ..norms import hinfnorm_quiet, hinfnorm_upper
 from .._text import table_row
 from .criteria import NAMES, Criteria, h2_norm
 from .limits import limits_of
+from .rates import REGION_TOL, STABILITY_TOL, decay_rate
 
 if TYPE_CHECKING:
     from .regions import Region
@@ -44,11 +45,6 @@ BOUND_RTOL = 1e-5
 BOUND_ATOL = 1e-5
 #: relative tolerance of a norm bound (max_hinf=, max_h2=)
 NORM_RTOL = 1e-6
-#: tolerance on region margins (absolute, scaled by the pole magnitude)
-REGION_TOL = 1e-6
-#: an error pole closer than this (relative) to the stability boundary
-#: does not decay: it is a mode the gain did not move, to rounding
-STABILITY_TOL = 1e-9
 
 
 @dataclass(repr=False)
@@ -162,18 +158,6 @@ class DesignReport:
                                f"{origin(self.stage, self.method)} "
                                f"({self.time:.3g} s)"))
         return '\n'.join(lines)
-
-
-def decay_rate(poles, dt=0):
-    """Rate of convergence of a system with the given poles."""
-    poles = np.asarray(poles, dtype=complex)
-    if poles.size == 0:
-        return float('inf')
-    if dt:
-        rho = np.max(np.abs(poles))
-        dt = 1.0 if dt is True else float(dt)
-        return float('inf') if rho == 0 else float(-np.log(rho) / dt)
-    return float(-np.max(poles.real))
 
 
 #: the convex routes in words
