@@ -203,7 +203,11 @@ def as_matrix(M: Any, name: str,
 def as_plant(plant):
     """Return ``(A, B, C, D, dt)`` copies of an LTI plant's matrices."""
     if isinstance(plant, ct.TransferFunction):
-        plant = ct.ss(plant)
+        try:
+            plant = ct.ss(plant)
+        except ValueError as exc:
+            raise ParameterError(f"the plant's transfer function has no "
+                                 f"state-space realisation: {exc}") from exc
     if not isinstance(plant, ct.StateSpace):
         raise ArgumentError(
             "plant must be a linear system (control.StateSpace or "

@@ -358,6 +358,9 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
     """
     problem = gi_problem(plant, Bw, augmented, check_copies(copies),
                          weights)
+    if not isinstance(augmented, (bool, np.bool_)):
+        raise ArgumentError("augmented must be True or False; found "
+                            f"{type(augmented).__name__} {augmented!r}")
     options = SynthesisOptions.from_call(options, locals())
     what = ("augmented plant (A, C) with the disturbance states "
             "[[A, Bw U], [0, Λ]], [C, U]") if augmented else "plant"
