@@ -18,10 +18,19 @@ estimator, run against the plant with noise, must give the error of the
 error system (both in extended precision, so that the check compares the
 realisations rather than double rounding).
 
+A call of every 17th seed forces a convex route (``method='lmi'``,
+``'riccati'`` or ``'modal'``); one of every 17th weakly observable plant
+sees its mode 1e-8 as strongly as the others.  After the calls, a
+200-state ``method='lmi'`` call checks that an LMI too large for memory
+is refused cleanly.
+
 Outcomes: verified, refused right (no design exists: by construction, or
 an unobservable mode outside the region by the PBH test),
 refused wrong (the package refused, an independent pole placement inside
-the region gives a stable design), refused (no independent proof either
+the region, or a Kalman-type Riccati gain into a slightly smaller region,
+gives a stable design), forced refusal (a forced route refused, saying
+whether the default route designs the problem), forced refusal, unnamed
+(it did not say), refused (no independent proof either
 way), crash (a foreign exception), hang (time limit), silent wrong (a
 returned design that fails a check), warned, check failed (the same on a
 design the package sent a GainWarning with), and gains above 1e6 times
@@ -71,10 +80,12 @@ def make_case(seed):
     if kind.startswith('gi') and p > 1:
         C[-1] = C[0] * rng.uniform(0.5, 2)   # a redundant sensor
     if family == 'weakly-observable':
-        # the last mode is seen 1e-6 as strongly as the others
+        # the last mode is seen 1e-6 as strongly as the others (1e-8 on
+        # every 17th seed: observable only to rounding's edge)
         lam, V = np.linalg.eig(A)
-        C = C + (1e-6 - 1) * np.outer(C @ np.real(V[:, -1]),
-                                      np.real(np.linalg.pinv(V)[-1]))
+        strength = 1e-8 if seed % 17 == 8 else 1e-6
+        C = C + (strength - 1) * np.outer(C @ np.real(V[:, -1]),
+                                          np.real(np.linalg.pinv(V)[-1]))
     unobservable_mode = None
     if family == 'no-solution':
         # an unstable or slow mode that C does not see
@@ -96,6 +107,10 @@ def make_case(seed):
         if unobservable_mode is not None:
             unobservable_mode = np.exp(unobservable_mode * dt)
     region = _region(rng, discrete, dt)
+    # every 17th seed forces a convex route (from its own stream, so that
+    # the other draws do not move)
+    method = str(np.random.default_rng([seed, 1]).choice(
+        ['lmi', 'riccati', 'modal'])) if seed % 17 == 16 else 'auto'
     noise = {}
     if not kind.startswith('gi') and rng.random() < 0.4:
         q = int(rng.integers(1, 3))
@@ -109,7 +124,7 @@ def make_case(seed):
     return dict(seed=seed, family=family, kind=kind, A=A, B=B, C=C, dt=dt,
                 region=region, noise=noise, Bw_gi=Bw_gi,
                 no_solution=family == 'no-solution' and not in_region(
-                    region, [unobservable_mode], dt))
+                    region, [unobservable_mode], dt), method=method)
 
 
 def _dynamics(rng, n, family):
@@ -219,7 +234,7 @@ def design(case):
         decay = case['region'][1]
     else:
         region = build_region(case['region'])
-    kw = dict(decay=decay, region=region,
+    kw = dict(decay=decay, region=region, method=case.get('method', 'auto'),
               refine_options=dict(random_starts=6, polish=3))
     kind = case['kind']
     if kind == 'hinf':
@@ -495,8 +510,57 @@ def placement_exists(case):
     try:
         L = ct.place_varga(A.T, C.T, poles).T
     except Exception:
+        return riccati_exists(A, C, spec, dt)
+    return in_region(spec, np.linalg.eigvals(A - L @ C), dt, tol=1e-4) or \
+        riccati_exists(A, C, spec, dt)
+
+
+def riccati_exists(A, C, spec, dt):
+    """A second existence proof, a Kalman-type gain: the filter Riccati
+    gain (identity weights) of the pair mapped so that a region slightly
+    inside the asked one becomes the stability region — for a disk
+    ``|z − c| <= r`` the discrete equation of ``(A − cI) / (0.97 r)``, for
+    a half-plane ``Re s <= −σ`` the continuous one of ``A + 1.03 σ I``.
+    Pole placement is ill-conditioned on defective and nearly
+    unobservable pairs; this one is not.  Sectors are not mapped (no
+    proof either way)."""
+    import scipy.linalg as la
+    n, p = A.shape[0], C.shape[0]
+    disks = []                          # (centre, radius)
+    if spec is None:
+        disks = [(0.0, 1.0)] if dt else []
+        sigma = 0.0
+    elif spec[0] == 'decay':
+        disks = [(0.0, np.exp(-spec[1] * dt))] if dt else []
+        sigma = spec[1]
+    elif spec[0] == 'disk':
+        disks = [(spec[2], spec[1])]
+    elif spec[0] == 'disk&disk':
+        # the smaller disk inside both: centre 0.05 or 0, whichever fits
+        disks = [(0.0, min(spec[1], 0.85)), (0.05, min(spec[1] - 0.05,
+                                                      0.9))]
+    else:
         return False
-    return in_region(spec, np.linalg.eigvals(A - L @ C), dt, tol=1e-4)
+    try:
+        if disks:
+            for c, r in disks:
+                if r <= 0:
+                    continue
+                rho = 0.97 * r
+                Ad = (A - c * np.eye(n)) / rho
+                P = la.solve_discrete_are(Ad.T, C.T, np.eye(n), np.eye(p))
+                L = rho * Ad @ P @ C.T @ np.linalg.inv(C @ P @ C.T +
+                                                       np.eye(p))
+                if in_region(spec, np.linalg.eigvals(A - L @ C), dt,
+                             tol=1e-4):
+                    return True
+            return False
+        shift = A + (1.03 * sigma + 1e-3) * np.eye(n)
+        P = la.solve_continuous_are(shift.T, C.T, np.eye(n), np.eye(p))
+        return in_region(spec, np.linalg.eigvals(A - P @ C.T @ C), dt,
+                         tol=1e-4)
+    except Exception:
+        return False
 
 
 def _others(caught, cx):
@@ -509,6 +573,7 @@ def _others(caught, cx):
 
 def run_case(case, queue):
     warnings.simplefilter('ignore')
+    queue = _WithMemory(queue)
     import controlext as cx
     caught = []
     try:
@@ -535,6 +600,18 @@ def run_case(case, queue):
                    _others(caught, cx)))
     except cx.ControlextError as exc:
         others = _others(caught, cx)
+        forced = case.get('method', 'auto') != 'auto'
+        if forced and not (case['no_solution'] or
+                           unobservable_outside(case)):
+            # a forced route may fail; its refusal must say whether the
+            # default route designs the problem (or, for a route that
+            # does not apply, say so before any solve)
+            text = str(exc)
+            named = "method='auto'" in text
+            queue.put(('forced refusal' if named else
+                       'forced refusal, unnamed',
+                       f"{type(exc).__name__}: {exc}"[:300], False, others))
+            return
         if case['no_solution'] or unobservable_outside(case):
             queue.put(('refused right', type(exc).__name__, False, others))
         elif placement_exists(case):
@@ -545,6 +622,51 @@ def run_case(case, queue):
                        False, others))
     except Exception:
         queue.put(('crash', traceback.format_exc()[-600:], False, []))
+
+
+class _WithMemory:
+    """A call's queue that sends the process's peak resident size (kB)
+    before each result."""
+
+    def __init__(self, queue):
+        self.queue = queue
+
+    def put(self, item):
+        import resource
+        self.queue.put(('memory',
+                        resource.getrusage(resource.RUSAGE_SELF).ru_maxrss))
+        self.queue.put(item)
+
+
+def memory_check(states=200, limit=120.0):
+    """``hinf_observer(P, method='lmi')`` on a ``states``-state chain, in
+    its own process: ``(outcome, message, peak MB, seconds)``.  The LMI of
+    200 states needs about 100 GB; it must be refused cleanly, not kill
+    the interpreter."""
+    import subprocess
+    code = (
+        "import resource, time, numpy as np, control as ct, controlext as cx\n"
+        f"n = {states}\n"
+        "A = np.diag(np.ones(n - 1), 1) - 0.5 * np.eye(n)\n"
+        "P = ct.ss(A, np.eye(n, 1), np.eye(1, n), 0)\n"
+        "t = time.perf_counter()\n"
+        "try:\n"
+        "    cx.hinf_observer(P, method='lmi', refine=False)\n"
+        "    out = 'designed', ''\n"
+        "except cx.ControlextError as exc:\n"
+        "    out = 'refused cleanly', str(exc)[:160]\n"
+        "print(out[0], '|', out[1], '|',\n"
+        "      resource.getrusage(resource.RUSAGE_SELF).ru_maxrss // 1024,\n"
+        "      '|', round(time.perf_counter() - t, 1))\n")
+    try:
+        proc = subprocess.run([sys.executable, '-c', code],
+                              capture_output=True, text=True, timeout=limit)
+    except subprocess.TimeoutExpired:
+        return 'hang', '', None, limit
+    if proc.returncode != 0:
+        return 'crash', proc.stderr[-300:], None, None
+    outcome, message, peak, seconds = proc.stdout.strip().split(' | ')
+    return outcome, message, int(peak), float(seconds)
 
 
 def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
@@ -570,14 +692,20 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
             queue = ctx.Queue()
             proc = ctx.Process(target=run_case, args=(case, queue))
             proc.start()
-            running.append((case, proc, queue, time.perf_counter()))
+            running.append((case, proc, queue, time.perf_counter(), {}))
         time.sleep(0.02)
         for item in list(running):
-            case, proc, queue, began = item
+            case, proc, queue, began, memo = item
             result = None
-            if not queue.empty():
-                result = queue.get()
-            elif not proc.is_alive():
+            while result is None and not queue.empty():
+                got = queue.get()
+                if got[0] == 'memory':
+                    memo['peak'] = got[1] // 1024
+                else:
+                    result = got
+            if result is not None:
+                pass
+            elif not proc.is_alive() and queue.empty():
                 result = ('crash', f'process died ({proc.exitcode})', False,
                           [])
             elif time.perf_counter() - began > limit:
@@ -587,6 +715,7 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
                 continue
             proc.join(timeout=5)
             running.remove(item)
+            counts['peak MB'] = max(counts['peak MB'], memo.get('peak', 0))
             outcome, why, unwarned, others = result
             counts[outcome] += 1
             counts['unwarned huge gain'] += unwarned
@@ -614,10 +743,15 @@ def main():
                                args.workers, verbose=True)
     print(f"\n{args.calls} calls in {time.perf_counter() - began:.0f} s")
     for outcome in ('verified', 'refused right', 'refused wrong', 'refused',
+                    'forced refusal', 'forced refusal, unnamed',
                     'crash', 'hang', 'silent wrong', 'warned, check failed',
                     'unwarned huge gain', 'other warnings'):
         print(f"{outcome:<20}{counts[outcome]:>6}"
               f"{100 * counts[outcome] / args.calls:>8.1f} %")
+    print(f"largest peak memory of a call: {counts['peak MB']} MB")
+    outcome, message, peak, seconds = memory_check()
+    print(f"200-state method='lmi': {outcome} in {seconds} s, peak "
+          f"{peak} MB: {message}")
     by = collections.Counter((d[1], d[5]) for d in details)
     print("\nby family:")
     for family in FAMILIES:

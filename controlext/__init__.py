@@ -39,7 +39,7 @@ from .sweep import Sweep, sweep
 from .plot import (error_plot, estimate_plot, tradeoff_plot,
                    design_map_plot, pole_region_plot, sweep_plot)
 
-__version__ = '0.1.0'
+__version__ = '0.2.0'
 
 __all__ = [
     'ControlextError', 'DimensionError', 'ArgumentError', 'ParameterError',

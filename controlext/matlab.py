@@ -100,24 +100,25 @@ def estim(sys: Plant, L: ArrayLike, sensors: ArrayLike | None = None,
     """
     plant = ct.ss(sys)
     p, m = plant.noutputs, plant.ninputs
-    sensors = _indices(sensors, p, 'sensors', list(range(p)))
-    known = _indices(known, m, 'known', [])
-    C, D = np.asarray(plant.C)[sensors], np.asarray(plant.D)[sensors]
+    outs = _indices(sensors, p, 'sensors', list(range(p)))
+    ins = _indices(known, m, 'known', [])
+    C, D = np.asarray(plant.C)[outs], np.asarray(plant.D)[outs]
     measured = ct.ss(plant.A, plant.B, C, D, plant.dt)
     est = LuenbergerObserver(measured, L).estimator()
-    ps, n = len(sensors), plant.nstates
-    B = np.asarray(est.B)[:, list(range(ps)) + [ps + j for j in known]]
+    ps, n = len(outs), plant.nstates
+    B = np.asarray(est.B)[:, list(range(ps)) + [ps + j for j in ins]]
     Cy = np.vstack([C @ est.C, est.C])
-    Dy = np.vstack([np.hstack([np.zeros((ps, ps)), D[:, known]]),
-                    np.zeros((n, ps + len(known)))])
+    Dy = np.vstack([np.hstack([np.zeros((ps, ps)), D[:, ins]]),
+                    np.zeros((n, ps + len(ins)))])
     return ct.ss(est.A, B, Cy, Dy, plant.dt,
-                 inputs=[plant.output_labels[i] for i in sensors] +
-                 [plant.input_labels[j] for j in known],
-                 outputs=[f'yhat[{i}]' for i in sensors] +
+                 inputs=[plant.output_labels[i] for i in outs] +
+                 [plant.input_labels[j] for j in ins],
+                 outputs=[f'yhat[{i}]' for i in outs] +
                  list(est.output_labels), states=est.state_labels)
 
 
-def _indices(value, size, name, default):
+def _indices(value: Any, size: int, name: str,
+             default: list[int]) -> list[int]:
     """Checked, distinct signal indices in ``range(size)``."""
     if value is None:
         return default

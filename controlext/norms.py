@@ -115,9 +115,8 @@ def hinfnorm_quiet(sys: Plant, tol: float = 1e-10) -> tuple[float, float]:
     """:func:`hinfnorm` without its warning when slycot fails: the norm a
     design's verification and trade-off report use.  The level-set
     algorithm's value is the one kept whenever it is larger anyway, so a
-    design verified on it needs no note (campaign call 1906: ab13dd's QR
-    iteration failed on a three-copy error system, and the user was told
-    of it by a RuntimeWarning).
+    design verified on it needs no note (ab13dd's QR iteration can fail on
+    a far from normal error system).
 
     Examples
     --------

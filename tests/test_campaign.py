@@ -5,16 +5,12 @@ design judged without the package's verification code (the error system
 rebuilt from the plant and the gain, the region's own formula, a grid
 norm and control.linfnorm, the estimator run against the plant)."""
 
-import pathlib
-import sys
 import warnings
 
 import control as ct
 import numpy as np
 import pytest
 
-BENCH = pathlib.Path(__file__).parent.parent / 'benchmarks'
-sys.path.insert(0, str(BENCH))
 from design_campaign import (campaign, design, exact_h2, judge,  # noqa: E402
                              make_case, rebuild)
 
@@ -23,7 +19,8 @@ from design_campaign import (campaign, design, exact_h2, judge,  # noqa: E402
 def test_seeded_campaign():
     counts, details = campaign(42, limit=120.0, start=0, workers=2)
     bad = [d for d in details if d[5] in ('crash', 'hang', 'silent wrong',
-                                          'refused wrong')]
+                                          'refused wrong',
+                                          'forced refusal, unnamed')]
     assert not bad, bad
     assert counts['unwarned huge gain'] == 0
     assert counts['verified'] >= 30

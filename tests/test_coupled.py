@@ -333,10 +333,6 @@ def test_three_copies_never_worse_than_two():
     """Quadruple tank (benchmarks/plants.py), decay 0.5: three copies
     used to return γ 1.614 against 1.595 for two; the two-copy design,
     grown to three copies, is now a candidate."""
-    import sys
-    import pathlib
-    sys.path.insert(0, str(pathlib.Path(__file__).parent.parent /
-                           'benchmarks'))
     from plants import PUBLIC, noise_model
     plant = PUBLIC['quadruple tank']
     Bw, Dw = noise_model(plant)

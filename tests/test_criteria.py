@@ -5,8 +5,6 @@ norms (``ct.norm``), a closed-form scalar Riccati solution, finite
 differences, the exact Gramian in rational arithmetic — never against the
 code that produced it."""
 
-import pathlib
-import sys
 import warnings
 
 import numpy as np
@@ -20,7 +18,6 @@ from controlext.synthesis import ObserverProblem
 from controlext.synthesis.criteria import Criteria, h2_norm, h2_parts
 from controlext.synthesis.objective import Objective
 
-sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
 from design_campaign import exact_gramian, exact_h2  # noqa: E402
 
 # the README's plant with process noise on both states and sensor noise

@@ -100,3 +100,32 @@ def test_tradeoff_page_has_its_figure(built):
                          html)
     # the transient figure (with the printed table) and the mixed front
     assert len(figures) == 2 and 'kalman' in html and 'h2hinfsyn' in html
+
+
+def test_no_glitches_in_the_built_pages(built):
+    """What a newcomer saw in the built HTML: cross-reference targets
+    printed literally, an extra that does not exist, a sentence rendered
+    as a parameter; the MATLAB section without estim; no changelog."""
+    pages = list(built.rglob('*.html'))
+    assert len(pages) > 20
+    for page in pages:
+        html = page.read_text()
+        for literal in ('python:None', 'python:list', 'python:tuple',
+                        '[plot]'):
+            assert literal not in html, (page.name, literal)
+    hinf = (built / 'generated' / 'controlext.hinf_observer.html'
+            ).read_text()
+    params = hinf.split('Parameters')[1].split('Returns')[0]
+    assert 'Every option is checked' not in params
+    api = (built / 'api.html').read_text()
+    assert 'controlext.matlab.estim' in api
+    changes = (built / 'changelog.html').read_text()
+    assert cx.__version__ in changes
+
+
+def test_printed_tables_do_not_wrap(built):
+    """Printed tables are literal blocks: they scroll sideways rather than
+    wrap, so their columns stay aligned at any window width."""
+    css = (built / '_static' / 'wrap.css').read_text()
+    assert 'white-space: pre;' in css and 'overflow-x: auto' in css
+    assert 'pre-wrap' not in css

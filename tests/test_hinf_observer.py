@@ -1,8 +1,6 @@
 """hinf_observer against an independent Riccati bisection, and the
 two-stage conditioning of the extracted gain."""
 
-import pathlib
-import sys
 
 import numpy as np
 import pytest
@@ -14,7 +12,6 @@ from controlext.synthesis import ObserverProblem
 from controlext.synthesis.lmi import solve_observer_lmi
 from conftest import error_system, unstable_plant
 
-sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
 from plants import PUBLIC, noise_model  # noqa: E402
 
 

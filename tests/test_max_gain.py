@@ -1,8 +1,6 @@
 """max_gain=: a bound on ‖G‖₂ held by refinement and verified, on every
 kind; against closed forms and independent evaluation of the result."""
 
-import sys
-import pathlib
 import warnings
 
 import numpy as np
@@ -11,7 +9,6 @@ import control as ct
 
 import controlext as cx
 
-sys.path.insert(0, str(pathlib.Path(__file__).parent))
 from test_robustness import AXIS  # noqa: E402
 
 UNSTABLE = ct.ss([[1.0]], [[1.0]], [[1.0]], 0)

@@ -138,10 +138,6 @@ def test_random_systems_against_grid_reference():
     forced fallback against a dense-grid reference (no slycot, no
     Hamiltonian) on continuous and discrete systems with lightly damped
     modes and peaks at 0, ∞ and Nyquist."""
-    import sys as _sys
-    import pathlib
-    _sys.path.insert(0, str(pathlib.Path(__file__).parent.parent /
-                            'benchmarks'))
     from hinfnorm_accuracy import measure
     worst = measure(60, seed=7)
     assert max(worst.values()) <= 1e-6, worst

@@ -2,8 +2,6 @@
 ``ab13dd`` (python-control's ``linfnorm``), a direct frequency response
 and finite differences."""
 
-import pathlib
-import sys
 
 import numpy as np
 import pytest
@@ -14,7 +12,6 @@ from controlext.synthesis import ObserverProblem
 from controlext.synthesis import peaks
 from controlext.synthesis.objective import Objective, CHECK_EVERY
 
-sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
 from plants import beam  # noqa: E402
 
 

@@ -4,8 +4,6 @@ best degree-N filter with F(a) = 1 and poles in Re s <= -σ, computed
 independently in benchmarks/copies_optimum.py (a convex program over the
 numerator on a frequency grid, the poles stacked at -σ)."""
 
-import pathlib
-import sys
 import warnings
 
 import numpy as np
@@ -18,7 +16,6 @@ from controlext.synthesis import ObserverProblem
 from controlext.synthesis.placed import PoleMap
 from test_hinf_observer import PUBLIC, noise_model, riccati_level
 
-sys.path.insert(0, str(pathlib.Path(__file__).parent.parent / 'benchmarks'))
 from copies_optimum import best_filter  # noqa: E402
 
 SCALAR = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)

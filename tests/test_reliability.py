@@ -397,10 +397,6 @@ def test_gi_pair_on_a_defective_discrete_plant_is_designed():
     placement failed on numpy 2.5 / scipy 1.18, and the call was refused.
     Rebuilt from the campaign's generator; the design returned, or a
     warned one, has its poles in the region, checked on the gain."""
-    import pathlib
-    import sys
-    sys.path.insert(0, str(pathlib.Path(__file__).parent.parent /
-                           'benchmarks'))
     from design_campaign import design, make_case
     case = make_case(416)
     assert case['kind'] == 'gi-pair' and case['family'] == 'defective'

@@ -161,3 +161,45 @@ def test_design_map_mimo_error_system():
     assert fin.sum() >= 10
     np.testing.assert_allclose(m.gamma[fin], g[fin], rtol=1e-6)
     np.testing.assert_allclose(m.decay, d, atol=1e-9)
+
+
+def test_control_plot_shapes_follow_python_control(second_order_plant):
+    """python-control's own ControlPlot: ``lines`` has the shape of
+    ``axes``, each element the list of that axes' lines.  Ours likewise,
+    for every plot; label= and legend_loc= as in python-control."""
+    own = ct.step_response(second_order_plant).plot()
+    assert own.lines.shape == own.axes.shape
+    obs = cx.LuenbergerObserver(second_order_plant, [[2.0], [5.0]])
+    resp = cx.simulate(second_order_plant, obs, np.linspace(0, 5, 51),
+                       initial_state=[1.0, 0.0])
+    plots = [cx.error_plot(resp), cx.estimate_plot(resp),
+             cx.pole_region_plot(obs, cx.HalfPlane(1.0)),
+             cx.tradeoff_plot({'decay': np.array([1.0, 2.0]),
+                               1: np.array([0.5, 0.7])})]
+    for cplt in plots:
+        assert cplt.lines.shape == cplt.axes.shape == (1, 1)
+        assert isinstance(cplt.lines[0, 0], list)
+        assert all(hasattr(line, 'get_xdata') for line in cplt.lines[0, 0])
+    labelled = cx.error_plot(resp, label='mine', legend_loc='lower left')
+    legend = labelled.axes[0, 0].get_legend()
+    assert [t.get_text() for t in legend.get_texts()] == ['mine']
+    assert legend._loc == 3                     # matplotlib's 'lower left'
+    assert cx.error_plot(resp, legend_loc=False).axes[0, 0].get_legend() \
+        is None
+    with pytest.raises(cx.ArgumentError):
+        cx.error_plot(resp, labels=['a'], label='b')
+    plt.close('all')
+
+
+def test_plots_of_a_plant_with_named_states():
+    plant = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]],
+                  0, states=['pos', 'vel'])
+    obs = cx.LuenbergerObserver(plant, [[2.0], [5.0]])
+    resp = cx.simulate(plant, obs, np.linspace(0, 5, 51),
+                       initial_state=[1.0, 0.0])
+    e = resp.outputs[resp.output_labels.index('e1[vel]')]
+    line = cx.error_plot(resp, norm=False).lines[0, 0][1]
+    np.testing.assert_allclose(line.get_ydata(), e)
+    assert cx.estimate_plot(resp, state=1).axes[0, 0].get_ylabel() == \
+        'vel and estimates'
+    plt.close('all')

@@ -193,10 +193,7 @@ def warn_if_fragile(report):
     if trade.peak > EXTREME:
         # an initial error (or a rounding error) grows this much before it
         # decays: the estimator reproduces its error system only to that
-        # many digits fewer (campaign: peaks 2e6-2e8 on defective and
-        # unstable plants, where estimator and error system parted at
-        # 6e-5 relative within 60 steps); inf: its simulation overflowed,
-        # as on campaign call 157
+        # many digits fewer; inf: its simulation overflowed
         size = f"to {trade.peak:.3g}" if np.isfinite(trade.peak) else \
             "beyond the range of double precision"
         warn(f"the averaged error from a unit initial error grows {size} "
@@ -206,10 +203,8 @@ def warn_if_fragile(report):
     lost = trade.sensitivity.get(1e-6, 0.0)
     if lost > FRAGILE * trade.decay:
         # relative gain errors of 1e-6 (a gain printed to 7 digits) cost
-        # more than a third of the decay: the design is that fragile
-        # (campaign seed 484: γ 3.7e6, decay lost 8.3; seed 819: γ 1.8e6,
-        # lost 1.73 of 3.48; in both estimator and error system parted by
-        # rounding)
+        # more than a third of the decay: the design is that fragile, and
+        # its estimator parts from its error system by rounding
         warn(f"relative gain errors of 1e-6 cost this design {lost:.3g} of "
              f"its decay rate {trade.decay:.3g} (γ = {report.hinf:.6g}): it "
              "is fragile, and its estimator amplifies its own rounding.  "

@@ -218,13 +218,20 @@ def _refuse_forced(problem, region, options, failures):
     raise type(last)(text)
 
 
+def _NotApplicable(text):
+    """The refusal of a forced route that does not apply to the problem,
+    told from the problem alone (no solve)."""
+    return ArgumentError(f"{text}; method='auto' chooses a route that "
+                         "applies")
+
+
 def _routes(problem, region, options):
     """The convex routes to try, in order: ``[(name, thunk), ...]``."""
     method = options.method
     criteria = options.criteria.convex     # the limits are not convex
     riccati_ok = riccati_applies(problem, region, criteria)
     if method == 'riccati' and not riccati_ok:
-        raise ArgumentError(
+        raise _NotApplicable(
             "method='riccati' needs a continuous plant, no pole region "
             "other than a decay half-plane, and noise on every measurement "
             "(Dw Dwᵀ nonsingular); for objective='h2' (the Kalman filter, "
@@ -235,7 +242,7 @@ def _routes(problem, region, options):
             "(max_h2=): use method='lmi'")
     split = None
     if method == 'modal' and not criteria.default:
-        raise ArgumentError("method='modal' designs the plain H∞ observer; "
+        raise _NotApplicable("method='modal' designs the plain H∞ observer; "
                             f"for {criteria} use method='lmi'")
     if method in ('modal', 'auto') and criteria.default:
         split = modal_applies(problem, region, options.lmi_max_states,
@@ -243,7 +250,7 @@ def _routes(problem, region, options):
     if method == 'modal' and split is None:
         top = min(options.lmi_max_states, problem.n - 1)
         count = "one mode" if top <= 1 else f"between 1 and {top} modes"
-        raise ArgumentError(
+        raise _NotApplicable(
             f"method='modal' needs a pole region with {count} of A outside "
             "or near it, and noise that does not reach the other modes "
             "(Bw = 0 or in the span of the slow Schur vectors)")

@@ -251,9 +251,8 @@ def _gramian(A, Q, dt):
                 # scipy found two poles summing to zero: both on the
                 # imaginary axis, where the Gramian is unbounded — or a
                 # far from normal A whose 2×2 Schur blocks its pivot test
-                # took for singular (campaign call 655: poles -0.67 to
-                # -9.7, ‖A‖ 4.9e7, perturbed to a NaN Gramian); the
-                # complex Schur form tells them apart
+                # took for singular; the complex Schur form tells them
+                # apart
                 marginal = True
             else:
                 warn(str(w.message), w.category)
@@ -277,11 +276,8 @@ def gramian_factor(A: np.ndarray, B: np.ndarray,
 
     The factor makes ``P`` positive semidefinite by construction: on far
     from normal matrices the solvers of :func:`gramian` may return an
-    indefinite ``P`` whose traces cancel (campaign call 1313, a discrete
-    pair of poles 0.507 doubled, ‖A‖ 4.7e5: ``SB03MD``'s ``P`` had
-    eigenvalues down to -5e10 and the H2 norm read 0, where the exact
-    Gramian in rational arithmetic gives 2.45606e6 and this factor
-    2.45605e6)."""
+    indefinite ``P`` whose traces cancel, and the H2 norm read 0 where the
+    exact Gramian gives millions."""
     if _sb03od is None:     # pragma: no cover - a required dependency
         return None
     A = np.asarray(A, dtype=float)

@@ -93,8 +93,7 @@ def _design(cls, problem, options, decay, region, system, what):
     if np.max(d) <= SPREAD * np.min(d):
         # states of comparable units keep them: refinement's search
         # depends on the realisation, and the paper's designs were tuned
-        # on theirs (second-order pair, seeds 0-3: 0.05927-0.05899
-        # canonical against 0.05879-0.05888 as given)
+        # on theirs
         d = np.ones_like(d)
     scaled = problem.scaled(d)
 
@@ -261,8 +260,7 @@ def synthesise(problem, region, options, convex=None, check=None,
     within = bound is None or meets_bound(bound,
                                           gain_norm(bound, convex.G))
     # a design without a certified level (the placement fallback) is
-    # refined too: on campaign call 990 (no region) it was the zero gain,
-    # returned at γ 4.8e7
+    # refined too: it may be the zero gain, at a huge γ
     if best is not None and not (options.refine and (
             needs_refinement(problem, region) or not within or
             convex.gamma_bound is None)):
@@ -330,8 +328,6 @@ def synthesise(problem, region, options, convex=None, check=None,
             gain_norm(bound, convex.G) > GAIN_LADDER * bound[0]:
         # far above the bound, the convex design is a poor start for it:
         # the design within GAIN_LADDER times the bound is a nearer one
-        # (cart-pendulum in mixed units at 0.1x the free gain: seeds 1
-        # and 2 refused without it)
         # (a geometric ladder: the square root of the ratio per step)
         ratio = gain_norm(bound, convex.G) / bound[0]
         looser = (max(GAIN_LADDER, np.sqrt(ratio)) * bound[0], bound[1])

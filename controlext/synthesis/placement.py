@@ -113,9 +113,9 @@ def partial_gain(A, C, region, stable, dt=0):
     the kept block); the zero gain when none has to move.
 
     Moving all ``n`` poles of a plant whose poles cluster is
-    ill-conditioned where keeping most of them is not (campaign call
-    1706: a discrete 10-state plant already inside its region, whose
-    full placement came out unstable, and the design was refused).
+    ill-conditioned where keeping most of them is not: the full
+    placement of a plant already inside its region can come out
+    unstable.
 
     Examples
     --------

@@ -72,7 +72,7 @@ def _riccati(Ab, W, Q):
         T, Z, sdim = la.schur(H, sort='lhp')
     except np.linalg.LinAlgError:
         # the reordering moved eigenvalues near the axis across it
-        # (LAPACK's trsen, campaign seed 846): no reliable solution here
+        # (LAPACK's trsen): no reliable solution here
         return None
     if sdim != n:
         return None
