@@ -25,6 +25,7 @@ from ._checks import as_matrix, as_plant, check_copies
 from .exceptions import DimensionError, ParameterError
 from .observers import Observer
 from .synthesis import SynthesisOptions, plant_problem
+from .synthesis.options import synthesis_factory
 from .synthesis.pipeline import design
 from ._typing import Array, ArrayLike, ExecutorLike, Names, Plant
 
@@ -149,6 +150,7 @@ class CoupledObserver(Observer):
 
 
 
+@synthesis_factory
 def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
                      weights: ArrayLike | None = None,
                      Bw: ArrayLike | None = None, Dw: ArrayLike | None = None,
@@ -250,7 +252,6 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     >>> bool(obs.hinf <= 0.4953), bool(obs.decay >= 2.5 - 1e-6)
     (True, True)
     """
-    options = SynthesisOptions.from_call(options, locals())
     problem = plant_problem(plant, Bw, Dw, Cz, copies=check_copies(copies, 2),
                             weights=weights)
     return design(CoupledObserver, problem, options, decay=decay,

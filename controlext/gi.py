@@ -56,6 +56,7 @@ from ._warn import warn
 from .exceptions import ArgumentError
 from .observers import Observer
 from .synthesis import ObserverProblem, SynthesisOptions
+from .synthesis.options import synthesis_factory
 from .synthesis.problem import signals_of
 from .synthesis.pipeline import design
 from ._typing import Array, ArrayLike, ExecutorLike, Names, Plant
@@ -297,6 +298,7 @@ def _warn_if_classic(problem):
              "classic observer", UserWarning)
 
 
+@synthesis_factory
 def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
                 augmented: bool = False, copies: int = 1, *,
                 weights: ArrayLike | None = None, region: Region | None = None,
@@ -361,7 +363,6 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
     if not isinstance(augmented, (bool, np.bool_)):
         raise ArgumentError("augmented must be True or False; found "
                             f"{type(augmented).__name__} {augmented!r}")
-    options = SynthesisOptions.from_call(options, locals())
     what = ("augmented plant (A, C) with the disturbance states "
             "[[A, Bw U], [0, Λ]], [C, U]") if augmented else "plant"
     obs = design(GIObserver, problem, options, decay=decay, region=region,

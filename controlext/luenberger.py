@@ -31,6 +31,7 @@ from .exceptions import (ArgumentError, DimensionError, GainWarning,
                          RegionError, VerificationError)
 from .observers import Observer
 from .synthesis import SynthesisOptions, plant_problem
+from .synthesis.options import synthesis_factory
 from .synthesis.pipeline import design
 from .synthesis.placement import place_gain, placement_error
 from .synthesis.verify import verify_design
@@ -195,6 +196,7 @@ def luenberger_observer(plant: Plant, poles: ArrayLike,
                                            **system)
 
 
+@synthesis_factory
 def hinf_observer(plant: Plant, decay: float | None = None,
                   Bw: ArrayLike | None = None, Dw: ArrayLike | None = None,
                   Cz: ArrayLike | None = None, *, region: Region | None = None,
@@ -314,7 +316,6 @@ def hinf_observer(plant: Plant, decay: float | None = None,
     >>> obs.decay >= 1 - 1e-6
     True
     """
-    options = SynthesisOptions.from_call(options, locals())
     problem = plant_problem(plant, Bw, Dw, Cz)
     return design(LuenbergerObserver, problem, options, decay=decay,
                   region=region, system=dict(name=name, inputs=inputs,

@@ -21,10 +21,14 @@ controlext.exceptions.ArgumentError: unrecognized refinement option(s): 'seed' (
 
 from __future__ import annotations
 
+import functools
+import inspect
+from collections.abc import Callable
 from dataclasses import MISSING, dataclass, field, fields, replace
-from typing import Any
+from typing import Any, TypeVar
 
 from .._checks import check_choice, check_number
+from .regions import check_decay
 from ..exceptions import ArgumentError, ParameterError
 from .criteria import Criteria
 
@@ -349,20 +353,6 @@ class SynthesisOptions:
                             value == defaults[key]))}
         return options.replace(**changes) if changes else options
 
-    @classmethod
-    def from_call(cls, options: SynthesisOptions | None,
-                  arguments: dict[str, Any]) -> SynthesisOptions:
-        """:meth:`from_keywords` with those of a factory's ``arguments``
-        (its ``locals()``) that name a field."""
-        if 'decay' in arguments:
-            # checked before the noise model: lqe's habit, hinf_observer(
-            # plant, QN, RN), puts a matrix where the decay goes
-            from .regions import check_decay
-            check_decay(arguments['decay'])
-        names = {f.name for f in fields(cls)}
-        return cls.from_keywords(options, **{
-            key: value for key, value in arguments.items() if key in names})
-
     @property
     def solver_name(self) -> str:
         """The cvxpy solver that will run."""
@@ -438,3 +428,40 @@ def _check_executor(executor):
                             f"{type(executor).__name__}")
     return executor
 
+
+F = TypeVar('F', bound=Callable[..., Any])
+
+
+def synthesis_factory(factory: F) -> F:
+    """Decorator of the factories: the synthesis keywords the factory's
+    signature names (``method``, ``margin``, ``max_gain``, …) are checked
+    and collected into its ``options`` argument, a
+    :class:`SynthesisOptions` (the keywords override a given ``options``
+    where they differ from their defaults), before the factory's body
+    runs; ``decay`` is checked first, so that ``lqe``'s habit
+    ``hinf_observer(plant, QN, RN)`` is told where the noise model goes.
+
+    Examples
+    --------
+    >>> from controlext.synthesis.options import synthesis_factory
+    >>> @synthesis_factory
+    ... def factory(plant, decay=None, *, margin=1.02, options=None):
+    ...     return options.margin
+    >>> factory(None, margin=1.5)
+    1.5
+    """
+    signature = inspect.signature(factory)
+    names = [name for name in signature.parameters
+             if name in {f.name for f in fields(SynthesisOptions)}]
+
+    @functools.wraps(factory)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        bound = signature.bind(*args, **kwargs)
+        bound.apply_defaults()
+        given = bound.arguments
+        if 'decay' in given:
+            check_decay(given['decay'])
+        given['options'] = SynthesisOptions.from_keywords(
+            given.get('options'), **{name: given[name] for name in names})
+        return factory(*bound.args, **bound.kwargs)
+    return wrapper  # type: ignore[return-value]
