@@ -292,3 +292,24 @@ def test_overflowing_transient_is_worded_as_such(monkeypatch):
                 if issubclass(w.category, cx.GainWarning)]
         assert len(said) == 1 and text in said[0], said
         assert 'inf' not in said[0].split('(')[0]
+
+
+def test_digits_are_monotone():
+    """digits means: rounding to that many digits or more keeps the
+    region.  Checked by rounding the gain to every count from digits to
+    17 and computing the poles independently."""
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter('ignore', cx.GainWarning)
+        obs = cx.coupled_observer(ct.ss([[-0.5]], [[1.0]], [[1.0]], 0),
+                                  decay=2.5)
+    d = obs.tradeoff.digits
+    G = np.asarray(obs.G)
+    A = np.asarray(obs.problem.Ae)
+    Ce = np.asarray(obs.problem.Ce)
+    for digits in range(d, 18):
+        Gr = np.array([[float(f"{x:.{digits - 1}e}") for x in row]
+                       for row in G])
+        poles = np.linalg.eigvals(A - Gr @ Ce)
+        assert np.max(poles.real) <= -2.5 + 1e-6 * max(1, np.max(
+            np.abs(poles))), (digits, poles)

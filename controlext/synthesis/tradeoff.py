@@ -251,23 +251,35 @@ def decay_sensitivity(problem: ObserverProblem, G: ArrayLike,
 
 def digits_needed(problem: ObserverProblem, G: ArrayLike,
                   region: Region | None = None) -> int:
-    """The fewest significant digits (3-17) to which the entries of ``G``
-    can be rounded with the error poles still in ``region`` (or stable),
-    to the verification's tolerance."""
+    """The fewest significant digits ``d`` (3-17) such that the entries
+    of ``G`` rounded to ``d`` *or more* digits keep the error poles in
+    ``region`` (or stable), to the verification's tolerance.
+
+    Every count from 17 down is tried and the count is the last one
+    before the first that fails, so the answer is monotone: a gain
+    rounded to fewer digits may land inside by luck, which does not make
+    those digits enough.
+    """
     G = np.asarray(G, dtype=float)
-    for digits in range(3, 18):
+
+    def keeps(digits):
         Gr = np.array([[float(f"{x:.{digits - 1}e}") for x in row]
                        for row in G]) if G.size else G
         poles = la.eigvals(problem.error_system(Gr)[0])
         if decay_rate(poles, problem.dt) <= 0:
-            continue
+            return False
         if region is None:
-            return digits
+            return True
         scale = max(1.0, float(np.max(np.abs(poles))) if poles.size
                     else 1.0)
-        if region.worst_margin(poles) <= REGION_TOL * scale:
-            return digits
-    return 17
+        return bool(region.worst_margin(poles) <= REGION_TOL * scale)
+
+    needed = 17
+    for digits in range(17, 2, -1):
+        if not keeps(digits):
+            break
+        needed = digits
+    return needed
 
 
 def tradeoff_of(problem: ObserverProblem, G: ArrayLike, name: str = '',
