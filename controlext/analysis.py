@@ -84,8 +84,8 @@ def log_norm(A: ArrayLike) -> float:
     >>> round(cx.log_norm([[-1.0, 5.0], [0.0, -2.0]]), 4)
     1.0495
     """
-    A = np.atleast_2d(np.asarray(A, dtype=float))
-    return float(np.linalg.eigvalsh(0.5 * (A + A.T))[-1])
+    M: Array = np.atleast_2d(np.asarray(A, dtype=float))
+    return float(np.linalg.eigvalsh(0.5 * (M + M.T))[-1])
 
 
 def eig_condition(A: ArrayLike) -> float:
@@ -110,8 +110,8 @@ def eig_condition(A: ArrayLike) -> float:
     >>> cx.eig_condition([[-1.0, 0.0], [0.0, -2.0]])
     1.0
     """
-    A = np.atleast_2d(np.asarray(A, dtype=float))
-    _, X = np.linalg.eig(A)
+    M: Array = np.atleast_2d(np.asarray(A, dtype=float))
+    _, X = np.linalg.eig(M)
     X = X / np.linalg.norm(X, axis=0)
     return float(np.linalg.cond(X))
 

@@ -117,18 +117,18 @@ class Region:
 
     def margins(self, eigs: ArrayLike) -> Array:
         """Array ``(len(eigs), parts)`` of ``g(λ)``; ``<= 0`` inside."""
-        eigs = np.atleast_1d(np.asarray(eigs, dtype=complex)).ravel()
+        lams: Array = np.atleast_1d(np.asarray(eigs, dtype=complex)).ravel()
         # the parts' margins are elementwise numpy expressions
-        out = np.empty((eigs.size, len(self._parts)))
+        out = np.empty((lams.size, len(self._parts)))
         for k, part in enumerate(self._parts):
-            out[:, k] = part[2](eigs)
+            out[:, k] = part[2](lams)
         return out
 
     def margin_gradients(self, eigs: ArrayLike) -> Array:
         """Array ``(len(eigs), parts, 2)`` of ``(dg/dRe λ, dg/dIm λ)``."""
-        eigs = np.atleast_1d(np.asarray(eigs, dtype=complex))
+        lams: Array = np.atleast_1d(np.asarray(eigs, dtype=complex))
         return np.array([[part[3](lam) for part in self._parts]
-                         for lam in eigs]).reshape(len(eigs), -1, 2)
+                         for lam in lams]).reshape(len(lams), -1, 2)
 
     def worst_margin(self, eigs: ArrayLike) -> float:
         """Largest margin over eigenvalues and parts (``<= 0`` inside)."""
