@@ -63,6 +63,10 @@ class DesignReport:
         the criteria involve it.
     criteria : Criteria or None
         What the design minimised and bounded (None: the H∞ norm).
+    hinf_rounding : float
+        The rounding bound added to ``hinf`` where double precision cannot
+        evaluate the error system's gain to its eighth digit (so that
+        ``hinf`` is never below the true norm); 0 elsewhere.
     peak_frequency : float
         Frequency (rad/s) of the peak gain.
     decay : float
@@ -110,6 +114,7 @@ class DesignReport:
     tradeoff: Tradeoff | None = None
     h2: float | None = None
     criteria: Criteria | None = None
+    hinf_rounding: float = 0.0
 
     @property
     def gamma_opt(self) -> float | None:
@@ -135,7 +140,7 @@ class DesignReport:
                 if np.isfinite(self.peak_frequency) else "")
         lines = [table_row('H∞ norm γ, noise → error',
                            f"{self.hinf:.6g}{peak}")]
-        rounding = (self.stats or {}).get('hinf_rounding')
+        rounding = self.hinf_rounding
         if rounding:
             lines.append(table_row(
                 '', f"(an upper bound: double precision evaluates the gain "
@@ -225,16 +230,13 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
     # (a far from normal error system) the norm is stated as the upper
     # bound of the computed peak, never below the true one
     gamma, rounding = hinfnorm_upper(sys, gamma, wpeak, 0.0)
-    if rounding:
-        info = dict(info, stats=dict(info.get('stats') or {},
-                                     hinf_rounding=rounding))
     h2 = None
     if criteria is not None and not criteria.default:
         h2 = h2_norm(sys.A, sys.B, sys.C, problem.dt)
     report = DesignReport(method=method, hinf=gamma, peak_frequency=wpeak,
                           decay=decay_rate(poles, problem.dt), poles=poles,
                           region=region, gamma_bound=gamma_bound, h2=h2,
-                          criteria=criteria, **info)
+                          criteria=criteria, hinf_rounding=rounding, **info)
     criteria = Criteria() if criteria is None else criteria
     if not check:
         return report
