@@ -731,7 +731,9 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
             if verbose:
                 print(case['seed'], case['family'], case['kind'], outcome,
                       why if outcome not in ('verified', 'refused right')
-                      else '', *others, flush=True)
+                      else '', *others,
+                      *(['(unwarned huge gain)'] if unwarned else []),
+                      flush=True)
     return counts, details
 
 
