@@ -102,6 +102,7 @@ def test_tradeoff_page_has_its_figure(built):
     assert len(figures) == 2 and 'kalman' in html and 'h2hinfsyn' in html
 
 
+@pytest.mark.slow
 def test_no_glitches_in_the_built_pages(built):
     """What a newcomer saw in the built HTML: cross-reference targets
     printed literally, an extra that does not exist, a sentence rendered
@@ -123,6 +124,7 @@ def test_no_glitches_in_the_built_pages(built):
     assert cx.__version__ in changes
 
 
+@pytest.mark.slow
 def test_printed_tables_do_not_wrap(built):
     """Printed tables are literal blocks: they scroll sideways rather than
     wrap, so their columns stay aligned at any window width."""
