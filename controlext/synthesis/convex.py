@@ -264,9 +264,9 @@ def _routes(problem, region, options):
     other = [name for name in ('SCS', 'CLARABEL')
              if name != options.solver_name and name in _installed()]
     if method == 'lmi':
-        # the LMI route retries on a realisation scaled to unit noise and
-        # unit gain (the solver's tolerances are absolute), then with the
-        # other installed solver, before it gives up
+        # the LMI route retries on a balanced realisation scaled to unit
+        # noise (the solver's tolerances are absolute), then with the other
+        # installed solver, before it gives up
         routes = [lmi, ('lmi (rescaled)',
                         lambda: _rescaled_lmi(problem, region, options))]
         if other and options.solver is None and not options.solver_options:
@@ -356,9 +356,7 @@ def riccati_placement(A, C, region, dt=0):
     region (``A + σ I`` for ``Re s ≤ −σ``; ``(A − c I) / ρ`` for the disk
     of centre ``c`` and radius ``ρ``).  It exists whenever the pair is
     detectable in the region, and stays accurate on defective and
-    nearly unobservable plants, where pole placement does not (a GI pair
-    on a defective discrete plant: placement left poles at 0.79 outside
-    the disk of 0.98 it was asked for, and unstable ones).
+    nearly unobservable plants, where pole placement does not.
 
     Examples
     --------
