@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import control as ct
 from ._typing import Array, ArrayLike
+from .exceptions import ArgumentError, DimensionError, ParameterError
 
 if TYPE_CHECKING:
     from .maps import DesignMap
@@ -77,13 +78,11 @@ def _labels(labels, label, count):
     ``label=`` (a string for one observer, or a list)."""
     if label is not None:
         if labels is not None:
-            from .exceptions import ArgumentError
             raise ArgumentError("give labels= or label=, not both")
         labels = [label] if isinstance(label, str) else list(label)
     labels = list(labels) if labels is not None else \
         [f'observer {k + 1}' for k in range(count)]
     if len(labels) != count:
-        from .exceptions import DimensionError
         raise DimensionError(f"expected {count} labels (one per observer); "
                              f"found {len(labels)}")
     return labels
@@ -204,7 +203,6 @@ def estimate_plot(resp: ct.TimeResponseData,
     n, K = _layout(resp)
     labels = _labels(labels, label, K)
     if not 0 <= state < n:
-        from .exceptions import ParameterError
         raise ParameterError(f"state must be in 0 ... {n - 1}; found {state}")
     fig, ax = _axes(ax)
     a = ax[0, 0]

@@ -113,26 +113,28 @@ def warn_if_held(bound, G, report, max_gain):
              "number) to lift the bound", GainWarning)
 
 
-def warn_if_extreme(problem, G, report, region=None):
+def warn_if_extreme(problem, G, report, region=None) -> bool:
     """Warn when the gain or the error poles of a design exceed
     ``EXTREME`` times the plant's scale, measured on the unit-free
     realisation: the rate ``max(1, ‖A‖, the region's least speed)`` for
-    the poles, that rate over ``‖C‖`` for the gain."""
+    the poles, that rate over ``‖C‖`` for the gain.  Returns whether it
+    warned."""
     rate, scale = _scales(problem, region)
     gain = np.linalg.norm(G, 2) / scale
     fastest = float(np.max(np.abs(report.poles))) / rate \
         if not problem.dt and report.poles.size else 0.0
-    if gain > EXTREME or fastest > EXTREME:
-        report.stats['extreme'] = True
-        # (a discrete design's poles lie in the unit disk: no rate to say)
-        poles = '' if problem.dt else \
-            f" and its fastest error pole {fastest:.3g} times"
-        warn(f"the design's gain is {gain:.3g} times the plant's scale"
-             f"{poles} (γ = {report.hinf:.6g}); such a gain amplifies "
-             "rounding and unmodelled noise.  refine=False returns the "
-             "convex design, whose gain is conditioned (its γ within "
-             "margin= of the convex optimum; margin=1.1 gives a smaller "
-             "gain still)", GainWarning)
+    if not (gain > EXTREME or fastest > EXTREME):
+        return False
+    # (a discrete design's poles lie in the unit disk: no rate to say)
+    poles = '' if problem.dt else \
+        f" and its fastest error pole {fastest:.3g} times"
+    warn(f"the design's gain is {gain:.3g} times the plant's scale"
+         f"{poles} (γ = {report.hinf:.6g}); such a gain amplifies "
+         "rounding and unmodelled noise.  refine=False returns the "
+         "convex design, whose gain is conditioned (its γ within "
+         "margin= of the convex optimum; margin=1.1 gives a smaller "
+         "gain still)", GainWarning)
+    return True
 
 
 def warn_if_degenerate(problem, G, report, region=None):
@@ -140,9 +142,8 @@ def warn_if_degenerate(problem, G, report, region=None):
     zero (the observer ignores its sensors), its error all but does not
     decay, or its error poles are far faster than the region asks; each
     warning says what to change.  Measured on the unit-free realisation,
-    like :func:`warn_if_extreme` (which, when it warned, says enough)."""
-    if report.stats.get('extreme'):
-        return
+    like :func:`warn_if_extreme` (which, where it warns, says enough: the
+    pipeline then does not call this)."""
     rate, scale = _scales(problem, region)
     gain = np.linalg.norm(G, 2) / scale
     if gain < NEGLIGIBLE:
@@ -170,9 +171,7 @@ def warn_if_degenerate(problem, G, report, region=None):
         return
     if region is None or problem.dt or not report.poles.size:
         return
-    asked = max(-region.stable_interval()[1],
-                float(np.max(np.abs(np.linalg.eigvals(problem.A))))
-                if problem.n else 0.0)
+    asked = max(-region.stable_interval()[1], modes)
     fastest = float(np.max(np.abs(report.poles)))
     if asked > 0 and fastest > FAST * asked:
         warn(f"the design's fastest error pole, {fastest:.3g}, is "

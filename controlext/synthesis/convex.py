@@ -180,10 +180,10 @@ def convex_stage(problem, region, options):
             result.stats['fallback'] = [(name, str(exc))
                                         for name, exc in failures]
         return result
-    steps = '; '.join(f"{name}: {exc}" for name, exc in failures)
-    last = failures[-1][1]
     if method != 'auto':
         _refuse_forced(problem, region, options, failures)
+    steps = '; '.join(f"{name}: {exc}" for name, exc in failures)
+    last = failures[-1][1]
     raise SolverError(
         f"no convex route gave a verified design ({steps}); try a looser "
         "region, a larger margin= (1.1), another solver= or "

@@ -116,9 +116,8 @@ def _design(cls, problem, options, decay, region, system, what):
         G, report = synthesise(scaled, region, options, convex=convex,
                                check=check)
     warn_if_held(bound, G, report, options.max_gain)
-    warn_if_extreme(scaled, G, report, region)
-    warn_if_degenerate(scaled, G, report, region)
-    report.stats.pop('extreme', None)
+    if not warn_if_extreme(scaled, G, report, region):
+        warn_if_degenerate(scaled, G, report, region)
     G = problem.unscale_gain(G, d)
     # the trade-off reports the H∞ floor γ∞*, whatever was minimised
     floor = report.stats.get('floor_level', _no_floor) \
