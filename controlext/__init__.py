@@ -35,6 +35,9 @@ from .maps import DesignMap, design_map
 from .compare import Comparison, compare, kalman_observer
 from .synthesis.tradeoff import Tradeoff
 from .sweep import Sweep, sweep
+# several plant models: building them, checking a design between them
+# (models.py)
+from .models import model_set, ModelCheck, check_models
 # plots (matplotlib, optional)  (plot.py)
 from .plot import (error_plot, estimate_plot, tradeoff_plot,
                    design_map_plot, pole_region_plot, sweep_plot)
@@ -58,4 +61,5 @@ __all__ = [
     'error_plot', 'estimate_plot', 'tradeoff_plot', 'design_map_plot',
     'pole_region_plot', 'Comparison', 'compare', 'kalman_observer',
     'Tradeoff', 'Sweep', 'sweep', 'sweep_plot',
+    'model_set', 'ModelCheck', 'check_models',
 ]

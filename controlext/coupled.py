@@ -25,6 +25,7 @@ from ._checks import as_matrix, as_plant, check_copies
 from .exceptions import DimensionError, ParameterError
 from .observers import Observer
 from .synthesis import SynthesisOptions, plant_problem
+from .synthesis.models import for_models
 from .synthesis.options import synthesis_factory
 from .synthesis.pipeline import design
 from ._typing import Array, ArrayLike, ExecutorLike, Names, Plant
@@ -195,8 +196,11 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
 
     Parameters
     ----------
-    plant : control.StateSpace
-        Detectable plant.
+    plant : control.StateSpace or sequence of control.StateSpace
+        Detectable plant, or several models of it (equal sizes, one
+        timebase; the first is the nominal one): one gain is designed for
+        all, the worst case over the models minimised, the region and
+        every limit held on each (:attr:`Observer.models`).
     decay : float, optional
         Required rate of convergence (every error pole has
         ``Re s <= -decay``); shorthand for ``region=cx.HalfPlane(decay)``.
@@ -252,8 +256,11 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     >>> bool(obs.hinf <= 0.4953), bool(obs.decay >= 2.5 - 1e-6)
     (True, True)
     """
-    problem = plant_problem(plant, Bw, Dw, Cz, copies=check_copies(copies, 2),
-                            weights=weights)
+    copies = check_copies(copies, 2)
+    problem = for_models(
+        plant, lambda P, **noise: plant_problem(P, copies=copies,
+                                                weights=weights, **noise),
+        Bw=Bw, Dw=Dw, Cz=Cz)
     return design(CoupledObserver, problem, options, decay=decay,
                   region=region, system=dict(name=name, inputs=inputs,
                                              outputs=outputs, states=states))

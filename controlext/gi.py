@@ -53,9 +53,10 @@ import scipy.linalg as la
 
 from ._checks import as_matrix, as_plant, check_copies
 from ._warn import warn
-from .exceptions import ArgumentError
+from .exceptions import ArgumentError, ParameterError
 from .observers import Observer
 from .synthesis import ObserverProblem, SynthesisOptions
+from .synthesis.models import ModelSet, for_models
 from .synthesis.options import synthesis_factory
 from .synthesis.problem import signals_of
 from .synthesis.pipeline import design
@@ -273,6 +274,12 @@ class GIObserver(Observer):
         return self.problem.plant_Bw.copy()
 
 
+    def _problem_of(self, plant):
+        other = gi_problem(plant, self.gi_Bw, self.augmented, self.copies,
+                           self.weights)
+        _check_shared_output(ModelSet([self.problem, other]))
+        return other
+
     @property
     def L(self) -> Array:
         """State gain ``L``."""
@@ -290,6 +297,20 @@ def _rows(problem):
     """Row indices of the gain, one row of the array per copy."""
     return np.arange(problem.copies * problem.n).reshape(problem.copies,
                                                          problem.n)
+
+
+def _check_shared_output(problem):
+    """Refuse models that do not share ``C``: the GI observer's projection
+    ``Π`` and its measurement map are built from it."""
+    members = problem.members
+    C = members[0].C
+    for k, member in enumerate(members[1:], start=2):
+        if not np.allclose(member.C, C, rtol=1e-12, atol=0):
+            gap = float(np.max(np.abs(member.C - C)))
+            raise ParameterError(
+                "gi_observer: every plant model must have the first model's "
+                f"C (the projection Π = I − C C⁺ is built from it); model {k}"
+                f"'s differs by up to {gap:.3g}")
 
 
 def _warn_if_classic(problem):
@@ -319,10 +340,14 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
 
     Parameters
     ----------
-    plant : control.StateSpace
-        Plant ``x' = A x + B u + Bw w``, ``y = C x + D u + w``.
+    plant : control.StateSpace or sequence of control.StateSpace
+        Plant ``x' = A x + B u + Bw w``, ``y = C x + D u + w``, or several
+        models of it sharing ``C`` (the projection depends on it), equal
+        sizes, one timebase: one gain for all, as for
+        :func:`controlext.hinf_observer`.
     Bw : array_like
-        Disturbance input matrix (``n × p``).
+        Disturbance input matrix (``n × p``); with several models, one for
+        all or a sequence of one per model.
     decay : float, optional
         Required rate of convergence (``region=cx.HalfPlane(decay)``).
     augmented : bool, optional
@@ -358,8 +383,11 @@ def gi_observer(plant: Plant, Bw: ArrayLike, decay: float | None = None,
     >>> bool(np.allclose(ct.dcgain(obs), 0, atol=1e-8))
     True
     """
-    problem = gi_problem(plant, Bw, augmented, check_copies(copies),
-                         weights)
+    copies = check_copies(copies)
+    problem = for_models(
+        plant, lambda P, Bw: gi_problem(P, Bw, augmented, copies, weights),
+        Bw=Bw)
+    _check_shared_output(problem)
     if not isinstance(augmented, (bool, np.bool_)):
         raise ArgumentError("augmented must be True or False; found "
                             f"{type(augmented).__name__} {augmented!r}")

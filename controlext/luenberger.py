@@ -31,6 +31,7 @@ from .exceptions import (ArgumentError, DimensionError, GainWarning,
                          RegionError, VerificationError)
 from .observers import Observer
 from .synthesis import SynthesisOptions, plant_problem
+from .synthesis.models import for_models
 from .synthesis.options import synthesis_factory
 from .synthesis.pipeline import design
 from .synthesis.placement import place_gain, placement_error
@@ -107,8 +108,11 @@ def luenberger_observer(plant: Plant, poles: ArrayLike,
 
     Parameters
     ----------
-    plant : control.StateSpace
-        Observable plant.
+    plant : control.StateSpace or sequence of control.StateSpace
+        Observable plant, or several models of it (equal sizes, one
+        timebase): the poles are placed on the first (nominal) one, and
+        the report says where they land on each
+        (:attr:`DesignReport.models`).
     poles : array_like
         ``n`` desired error poles (complex ones in conjugate pairs).
     Bw, Dw, Cz : array_like, optional
@@ -134,7 +138,7 @@ def luenberger_observer(plant: Plant, poles: ArrayLike,
     """
     start = time.perf_counter()
     system = check_system(name, inputs, outputs, states)
-    problem = plant_problem(plant, Bw, Dw, Cz)
+    problem = for_models(plant, plant_problem, Bw=Bw, Dw=Dw, Cz=Cz)
     problem.error_signals(inputs, outputs, states)
     A, C, dt = problem.A, problem.C, problem.dt
     try:
@@ -223,13 +227,17 @@ def hinf_observer(plant: Plant, decay: float | None = None,
 
     Parameters
     ----------
-    plant : control.StateSpace
-        Detectable plant.
+    plant : control.StateSpace or sequence of control.StateSpace
+        Detectable plant, or several models of it (equal sizes, one
+        timebase; the first is the nominal one): one gain is designed for
+        all, the worst case over the models minimised, the region and
+        every limit held on each (:attr:`Observer.models`).
     decay : float, optional
         Required rate of convergence ``σ > 0``: every error pole has
         ``Re s <= -σ``.  Shorthand for ``region=cx.HalfPlane(σ)``.
     Bw, Dw, Cz : array_like, optional
-        Noise model (see :class:`LuenbergerObserver`).
+        Noise model (see :class:`LuenbergerObserver`); with several plant
+        models, one for all or a sequence of one matrix per model.
     region : Region, optional
         Pole region for the error dynamics.
     method : {'auto', 'lmi', 'riccati', 'modal'}, optional
@@ -316,7 +324,7 @@ def hinf_observer(plant: Plant, decay: float | None = None,
     >>> obs.decay >= 1 - 1e-6
     True
     """
-    problem = plant_problem(plant, Bw, Dw, Cz)
+    problem = for_models(plant, plant_problem, Bw=Bw, Dw=Dw, Cz=Cz)
     return design(LuenbergerObserver, problem, options, decay=decay,
                   region=region, system=dict(name=name, inputs=inputs,
                                              outputs=outputs, states=states))

@@ -40,10 +40,11 @@ from typing import TYPE_CHECKING, Self
 import numpy as np
 import control as ct
 
-from ._checks import check_name, check_system
-from .exceptions import ArgumentError
+from ._checks import as_plant, check_name, check_system
+from .exceptions import ArgumentError, DimensionError
 from ._text import table_row
 from .synthesis.floor import filter_floor
+from .synthesis.problem import plant_problem
 from .synthesis.tradeoff import Tradeoff, tradeoff_of
 from .synthesis.verify import verify_design
 from ._typing import Array, ArrayLike, Names
@@ -85,6 +86,11 @@ class Observer(ct.StateSpace):
                  *, inputs: Names = None, outputs: Names = None,
                  states: Names = None) -> None:
         check_system(name, inputs, outputs, states)
+        members = problem.members
+        # a design for several plant models is the nominal model's error
+        # system; the others are kept for `models`
+        problem = members[0]
+        self._models = members if len(members) > 1 else None
         signals = problem.error_signals(inputs, outputs, states)
         self.problem = problem
         self._G = np.array(G, dtype=float)
@@ -250,13 +256,72 @@ class Observer(ct.StateSpace):
 
     @property
     def hinf(self) -> float:
-        """True H∞ norm of the error system."""
+        """True H∞ norm of the error system (of a design for several
+        plant models: the worst case over them)."""
         return self.report.hinf
 
     @property
     def decay(self) -> float:
-        """Rate of convergence of the error."""
+        """Rate of convergence of the error (of a design for several plant
+        models: the slowest over them)."""
         return self.report.decay
+
+    @property
+    def models(self) -> list[Self]:
+        """The observer on each plant model it was designed for, the
+        nominal first (its error system is this one's): observers of this
+        class, one per model, each with that model's report (``[self]``
+        for a design on one model)."""
+        if self._models is None:
+            return [self]
+        return [type(self).from_problem(
+            member, self._G, report=verify_design(
+                member, self._G, self.report.region, check=False,
+                criteria=self.report.criteria),
+            name=f'{self.name}[{k}]')
+            for k, member in enumerate(self._models)]
+
+    def on(self, plant: ct.StateSpace, name: str | None = None) -> Self:
+        """This observer's gain on another plant of the same sizes and
+        timebase: the observer (error system and estimator) it makes
+        there, with its report, to check a design on a plant it was not
+        designed for.
+
+        Examples
+        --------
+        >>> import control as ct
+        >>> import controlext as cx
+        >>> obs = cx.LuenbergerObserver(ct.ss([[-0.5]], [[1.0]], [[1.0]], 0),
+        ...                             [[2.0]])
+        >>> round(obs.on(ct.ss([[-1.5]], [[1.0]], [[1.0]], 0)).decay, 4)
+        3.5
+        """
+        check_name(name)
+        A, B, C, _, dt = as_plant(plant)
+        prob = self.problem
+        for what, a, b in (('states', prob.nx, A.shape[0]),
+                           ('measurements', prob.p, C.shape[0]),
+                           ('inputs', prob.nu, B.shape[1])):
+            if a != b:
+                raise DimensionError(
+                    f"plant must have the observer's {what} ({a}); found "
+                    f"{b}")
+        if dt != prob.dt:
+            raise DimensionError(
+                f"plant must have the observer's timebase dt={prob.dt}; "
+                f"found dt={dt}")
+        other = self._problem_of(plant)
+        report = verify_design(other, self._G, self.report.region,
+                               check=False, criteria=self.report.criteria)
+        return type(self).from_problem(other, self._G, report=report,
+                                       name=name or f'{self.name}_on')
+
+    def _problem_of(self, plant):
+        """The problem of this observer's kind on another plant, with the
+        same noise model, copies and weights."""
+        prob = self.problem
+        return plant_problem(plant, prob.Bw, prob.Dw, prob.Cz,
+                             copies=prob.copies, weights=prob.weights)
 
 
     def estimator(self, name: str | None = None, copy_outputs: bool = False,

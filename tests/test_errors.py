@@ -137,11 +137,12 @@ def test_other_arguments(second_order_plant):
     with pytest.raises(cx.ArgumentError, match='either decay= or region='):
         cx.hinf_observer(second_order_plant, decay=1,
                          region=cx.HalfPlane(1))
-    with pytest.raises(cx.ArgumentError, match="needs a continuous plant, "
-                                               "no pole region other"):
+    with pytest.raises(cx.ArgumentError, match="needs one continuous plant "
+                                               "model, no pole region other"):
         cx.hinf_observer(second_order_plant, region=cx.Disk(3.0, -4.0),
                          method='riccati')
-    with pytest.raises(cx.ArgumentError, match="needs a continuous plant"):
+    with pytest.raises(cx.ArgumentError,
+                       match="needs one continuous plant model"):
         cx.coupled_observer(second_order_plant, decay=1, Dw=[[0.0]],
                             Bw=[[1.0], [0.0]], method='riccati')
     with pytest.raises(cx.ParameterError, match="'auto', 'lmi', 'riccati', "

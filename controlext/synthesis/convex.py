@@ -95,8 +95,9 @@ def riccati_applies(problem, region, criteria=None):
     """Can a Riccati equation give a certified design?  The H∞ filter's
     (continuous time, no region or a decay half-plane) for the plain H∞
     design; the Kalman filter's (no region) for the plain H2 design; noise
-    on every measurement for both."""
-    if problem.copies != 1 or \
+    on every measurement for both; one plant model (the filter of one
+    model is no common design of several)."""
+    if problem.copies != 1 or len(problem.members) > 1 or \
             np.linalg.matrix_rank(problem.Dw @ problem.Dw.T) != problem.p:
         return False
     if criteria is None or criteria.default:
@@ -232,7 +233,8 @@ def _routes(problem, region, options):
     riccati_ok = riccati_applies(problem, region, criteria)
     if method == 'riccati' and not riccati_ok:
         raise _NotApplicable(
-            "method='riccati' needs a continuous plant, no pole region "
+            "method='riccati' needs one continuous plant model, no pole "
+            "region "
             "other than a decay half-plane, and noise on every measurement "
             "(Dw Dwᵀ nonsingular); for objective='h2' (the Kalman filter, "
             "either time domain) noise on every measurement, no region and "
@@ -244,14 +246,16 @@ def _routes(problem, region, options):
     if method == 'modal' and not criteria.default:
         raise _NotApplicable("method='modal' designs the plain H∞ observer; "
                             f"for {criteria} use method='lmi'")
-    if method in ('modal', 'auto') and criteria.default:
+    if method in ('modal', 'auto') and criteria.default and \
+            len(problem.members) == 1:
         split = modal_applies(problem, region, options.lmi_max_states,
                               options.modal_guard)
     if method == 'modal' and split is None:
         top = min(options.lmi_max_states, problem.n - 1)
         count = "one mode" if top <= 1 else f"between 1 and {top} modes"
         raise _NotApplicable(
-            f"method='modal' needs a pole region with {count} of A outside "
+            f"method='modal' needs one plant model and a pole region with "
+            f"{count} of A outside "
             "or near it, and noise that does not reach the other modes "
             "(Bw = 0 or in the span of the slow Schur vectors)")
     lmi = ('lmi', lambda: _lmi_design(problem, region, options))
@@ -426,7 +430,7 @@ def _rescaled_lmi(problem, region, options):
     d = problem.state_scaling()
     scaled = problem.scaled(d)
     noise = max(scaled.noise_scale, 1e-300)
-    scaled = scaled.replace(Bw=scaled.Bw / noise, Dw=scaled.Dw / noise)
+    scaled = scaled.noise_scaled(1 / noise)
     res = _lmi_design(scaled, region, options)
     res.G = problem.unscale_gain(res.G, d)
     res.gamma_bound *= noise

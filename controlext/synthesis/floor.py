@@ -49,7 +49,14 @@ def filter_floor(problem: ObserverProblem, solver: str | None = None,
     """``γ∞*`` (or, with ``criterion='h2'``, the Kalman filter's H2 norm)
     of ``problem``'s one-copy estimation problem, or None when neither
     route gives it (the LMI is not tried above ``max_states`` states; the
-    floor only informs, it holds no design back)."""
+    floor only informs, it holds no design back).  For several plant
+    models, the largest of the models' floors: the worst case of one
+    gain on all is above each."""
+    if len(problem.members) > 1:
+        levels = [filter_floor(member, solver, rtol, max_states, criterion)
+                  for member in problem.members]
+        known = [level for level in levels if level is not None]
+        return max(known) if known else None
     one = problem.single()
     noisy = np.linalg.matrix_rank(one.Dw @ one.Dw.T) == one.p
     level = np.inf

@@ -126,7 +126,7 @@ def lmi_memory(problem) -> float:
     True
     """
     size = problem.copies * problem.n + problem.Bw.shape[1]
-    return LMI_BYTES * float(size) ** LMI_POWER
+    return len(problem.members) * LMI_BYTES * float(size) ** LMI_POWER
 
 
 def available_memory() -> float:
@@ -317,17 +317,34 @@ def _verified(problem, region, G, gbound, criteria, check=True):
 
 def _build(problem, region, criteria):
     """Variables, ``level(g)`` (the constraints ``objective <= g``, with
-    ``g`` squared for the H2 norm) and the other constraints."""
+    ``g`` squared for the H2 norm) and the other constraints: those of
+    every model of ``problem.members``, with one ``X`` and one ``Y``."""
+    shape = problem.gain_shape
+    N = problem.Ae.shape[0]
+    X = cp.Variable((N, N), symmetric=True, name='X')
+    Y = cp.Variable(shape, name='Y')
+    gamma = cp.Variable(nonneg=True, name='gamma')
+    scale = max(1.0, max(np.linalg.norm(member.Ae, 2)
+                         for member in problem.members))
+    eps = 1e-9 * scale
+    cons = [X >> eps * np.eye(N)]
+    levels = []
+    for member in problem.members:
+        more, level = _model_constraints(member, region, criteria, X, Y,
+                                         eps)
+        cons += more
+        levels.append(level)
+    return X, Y, gamma, lambda g: [c for level in levels
+                                   for c in level(g)], cons
+
+
+def _model_constraints(problem, region, criteria, X, Y, eps):
+    """The constraints of one model on ``(X, Y)`` and its ``level(g)``."""
     Ae, Ce, Bwe, Dwe, Cze = (problem.Ae, problem.Ce, problem.Bwe,
                              problem.Dwe, problem.Cze)
     N, q, nz = Ae.shape[0], Bwe.shape[1], Cze.shape[0]
-    X = cp.Variable((N, N), symmetric=True, name='X')
-    Y = cp.Variable(problem.gain_shape, name='Y')
-    gamma = cp.Variable(nonneg=True, name='gamma')
     Z = X @ Ae - Y @ Ce
     M = Y @ Dwe - X @ Bwe
-    scale = max(1.0, np.linalg.norm(Ae, 2))
-    eps = 1e-9 * scale
     discrete = bool(problem.dt)
 
     def brl(g):
@@ -345,7 +362,7 @@ def _build(problem, region, criteria):
         blk = 0.5 * (blk + blk.T)
         return blk << -eps * np.eye(blk.shape[0])
 
-    cons = [X >> eps * np.eye(N)]
+    cons = []
     if region is not None:
         for L, Mr in region.blocks():
             blk = cp.kron(L, X) + cp.kron(Mr, Z.T) + cp.kron(Mr.T, Z)
@@ -372,7 +389,7 @@ def _build(problem, region, criteria):
 
     for name, value in criteria.bounds:
         cons += bound(name, value**2 if name == 'h2' else value)
-    return X, Y, gamma, lambda g: bound(criteria.objective, g), cons
+    return cons, lambda g: bound(criteria.objective, g)
 
 
 def _solve(prob, solver, opts, what, stats, key, accept=(cp.OPTIMAL,)):
@@ -429,3 +446,72 @@ def decay_certificate(A, alpha, solver=None, solver_options=None):
            f'decay certificate (alpha = {alpha:g})', stats, 'certificate')
     Pv = 0.5 * (P.value + P.value.T)
     return Pv, float(kappa.value)
+
+
+def common_certificate(problem, G, region=None, solver=None):
+    """The least ``γ`` with one Lyapunov matrix ``X`` certifying the
+    fixed gain ``G`` on every model of ``problem.members``: the H∞
+    bounded-real LMI of each model's error system at ``γ`` and its
+    region LMI, with the same ``X``.  Both are affine in the plant data,
+    so the certificate holds on every plant in the models' convex hull.
+    None where no such ``X`` is found (or the solution does not check
+    out: every LMI is re-evaluated at the solver's ``X``).
+
+    Examples
+    --------
+    >>> import controlext as cx
+    >>> from controlext.synthesis import ObserverProblem
+    >>> from controlext.synthesis.models import ModelSet
+    >>> models = ModelSet([ObserverProblem([[-1.0]], [[1.0]]),
+    ...                    ObserverProblem([[-2.0]], [[1.0]])])
+    >>> # L = 1: poles -2 and -3, norms 1/2 and 1/3
+    >>> round(common_certificate(models, [[1.0]], cx.HalfPlane(1.5)), 4)
+    0.5
+    """
+    G = np.asarray(G, dtype=float)
+    N = problem.Ae.shape[0]
+    X = cp.Variable((N, N), symmetric=True)
+    gamma = cp.Variable(nonneg=True)
+    scale = max(1.0, max(np.linalg.norm(m.Ae, 2) for m in problem.members))
+    eps = 1e-9 * scale
+    cons = [X >> eps * np.eye(N), X << 1e6 * np.eye(N)]
+    blocks = []
+    for member in problem.members:
+        Acl, Bcl, Ccl, _ = member.error_system(G)
+        q, nz = Bcl.shape[1], Ccl.shape[0]
+        Z, M = X @ Acl, X @ Bcl
+        if member.dt:
+            blk = cp.bmat([
+                [-X, Z, M, np.zeros((N, nz))],
+                [Z.T, -X, np.zeros((N, q)), Ccl.T],
+                [M.T, np.zeros((q, N)), -gamma * np.eye(q),
+                 np.zeros((q, nz))],
+                [np.zeros((nz, N)), Ccl, np.zeros((nz, q)),
+                 -gamma * np.eye(nz)]])
+        else:
+            blk = cp.bmat([[Z + Z.T, M, Ccl.T],
+                           [M.T, -gamma * np.eye(q), np.zeros((q, nz))],
+                           [Ccl, np.zeros((nz, q)), -gamma * np.eye(nz)]])
+        blocks.append(0.5 * (blk + blk.T))
+        if region is not None:
+            for L, Mr in region.blocks():
+                rb = cp.kron(L, X) + cp.kron(Mr, Z.T) + cp.kron(Mr.T, Z)
+                blocks.append(0.5 * (rb + rb.T))
+    cons += [blk << 0 for blk in blocks]
+    prob = cp.Problem(cp.Minimize(gamma), cons)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter('ignore')
+            prob.solve(solver=solver or cp.CLARABEL)
+    except (cp.error.SolverError, ValueError, ArithmeticError):
+        return None
+    if prob.status != cp.OPTIMAL or X.value is None:
+        return None
+    # the solver's word is checked: every LMI at its X, to a tolerance
+    # relative to the blocks' size
+    worst = max(float(np.linalg.eigvalsh(blk.value)[-1]) for blk in blocks)
+    size = max(float(np.linalg.norm(blk.value, 2)) for blk in blocks)
+    if worst > 1e-7 * max(size, 1.0) or \
+            float(np.linalg.eigvalsh(X.value)[0]) <= 0:
+        return None
+    return float(gamma.value) * (1 + 1e-6) + 1e-9

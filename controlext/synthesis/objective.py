@@ -54,7 +54,7 @@ from .criteria import Criteria, h2_parts, stable_poles
 from .limits import limits_of
 from . import peaks as _peaks
 
-__all__ = ['Objective']
+__all__ = ['Objective', 'WorstCase', 'objective_of']
 
 _ONE = np.ones(1)
 
@@ -107,6 +107,9 @@ class Objective:
     evaluated; ``best`` is the smallest norm met inside the constraints
     and its gain.
     """
+
+    #: the pole-placement polish may run on it
+    placeable = True
 
     def __init__(self, problem, region, rho=0.0, delta=0.0, tikhonov=0.0,
                  peaks=4, gain_bound=None, gain_weights=None, gain_units=1.0,
@@ -303,6 +306,14 @@ class Objective:
         b = self.Dwe @ v - self.Ce @ (RB @ v)
         return np.real(np.outer(a.conj(), b))
 
+    def peak_bound(self, G):
+        """A lower bound of the H∞ norm at ``G`` from the recent peak
+        frequencies (0 when none is known or another norm is
+        minimised)."""
+        if not self._peaks or self.primary != 'hinf':
+            return 0.0
+        return self._peak_bound(self.Ae - G @ self.Ce, G @ self.Dwe - self.Bwe)
+
     def _peak_bound(self, Acl, Bcl):
         """``max_k σmax(T(j w_k))`` over the recent peak frequencies
         ``w_k``: a lower bound of the H∞ norm (``inf`` on a pole)."""
@@ -342,6 +353,51 @@ class Objective:
                            np.linalg.eigvals(Acl),
                            (self.primary,), tol=EXACT)[self.primary][0]
 
+    def pieces(self, x):
+        """``(γ, m, dγ, dm)`` at the flat gain ``x``: the minimised norm,
+        the worst constraint margin and thunks of their gradients (the
+        parts :class:`WorstCase` combines over models)."""
+        G, Acl, Bcl, lam, V, m, crit, norms, sq = self._evaluate(x)
+        gamma = norms[self.primary][0]
+
+        def dgamma():
+            return self._gradient(self.primary, Acl, Bcl, norms)
+
+        def dmargin():
+            if crit is None:
+                return np.zeros(self.shape)
+            return self._margin_grad(lam, V, crit)
+
+        return gamma, m, dgamma, dmargin
+
+    def _evaluate(self, x):
+        """The cached evaluation of a flat gain: ``(G, Acl, Bcl, lam, V,
+        m, crit, norms, ‖G‖²)``."""
+        key = x.tobytes()
+        last = self._last
+        if last is not None and last[0] == key:
+            return last[1:]
+        self.count += 1
+        G = x.reshape(self.shape)
+        Bcl = G @ self.Dwe - self.Bwe
+        sq = float(np.sum(G * G))
+        Acl, lam, V, m, crit = self._point(G)
+        return self._store(key, G, Acl, Bcl, lam, V, m, crit, sq)
+
+    def _store(self, key, G, Acl, Bcl, lam, V, m, crit, sq):
+        """Complete an evaluation with the norms and keep it."""
+        norms = self._norms(Acl, Bcl, lam, self.needed, V=V)
+        m, crit = self._bounded(norms, m, crit, Acl, Bcl, G)
+        self._last = (key, G.copy(), Acl, Bcl, lam, V, m, crit, norms, sq)
+        w = norms['hinf'][1] if 'hinf' in norms else np.nan
+        if math.isfinite(w) and self.peaks and all(
+                abs(w - p) > 1e-3 * (abs(w) + 1e-9) for p in self._peaks):
+            self._peaks = [w] + self._peaks[:self.peaks - 1]
+        gamma = norms[self.primary][0]
+        if math.isfinite(gamma) and m <= 0 and gamma < self.best[0]:
+            self.best = (gamma, G.copy())
+        return self._last[1:]
+
     def __call__(self, x, grad=True, above=None):
         # the line search asks again for the point it has just accepted:
         # the points are compared by their bytes (np.array_equal costs
@@ -374,29 +430,99 @@ class Objective:
                 bound += self.rho * max(0.0, m + self.delta)
                 if bound > above and (m > 0 or peak >= self.best[0]):
                     return bound, None
-            norms = self._norms(Acl, Bcl, lam, self.needed, V=V)
-            m, crit = self._bounded(norms, m, crit, Acl, Bcl, G)
-            self._last = (key, G.copy(), Acl, Bcl, lam, V, m, crit, norms,
-                          sq)
-            w = norms['hinf'][1] if 'hinf' in norms else np.nan
-            if math.isfinite(w) and self.peaks and all(
-                    abs(w - p) > 1e-3 * (abs(w) + 1e-9)
-                    for p in self._peaks):
-                self._peaks = [w] + self._peaks[:self.peaks - 1]
-            gamma = norms[self.primary][0]
-            if math.isfinite(gamma) and m <= 0 and gamma < self.best[0]:
-                self.best = (gamma, G.copy())
-        gamma = norms[self.primary][0]
-        if not math.isfinite(gamma):
-            return np.inf, (np.zeros_like(x) if grad else None)
-        value = gamma + self.tikhonov * sq
-        penalised = m + self.delta > 0
-        if penalised:
-            value += self.rho * (m + self.delta)
-        if not grad:
-            return value, None
-        g = self._gradient(self.primary, Acl, Bcl, norms) + \
-            2 * self.tikhonov * G
-        if penalised:
-            g = g + self.rho * self._margin_grad(lam, V, crit)
-        return value, g.ravel()
+            G, Acl, Bcl, lam, V, m, crit, norms, sq = self._store(
+                key, G, Acl, Bcl, lam, V, m, crit, sq)
+        return _penalty(self, x, G, sq, norms[self.primary][0], m, grad,
+                        lambda: self._gradient(self.primary, Acl, Bcl,
+                                               norms),
+                        lambda: self._margin_grad(lam, V, crit))
+
+
+class WorstCase:
+    """The objective of one gain on several plant models: the worst case
+    over ``problem.members`` of the minimised norm, with the worst
+    constraint margin of any model in the exact penalty,
+
+        f(G) = max_k ‖T_k,G‖ + τ ‖G‖² + ρ · max(0, max_k g_k(G) + δ),
+
+    and a gradient of the active model's norm and margin.  It has the
+    interface of :class:`Objective` (same parameters); each model is an
+    :class:`Objective` without a penalty of its own.
+    """
+
+    #: the pole-placement polish needs one model's pole map
+    placeable = False
+
+    def __init__(self, problem, region, rho=0.0, delta=0.0, tikhonov=0.0,
+                 peaks=4, gain_bound=None, gain_weights=None, gain_units=1.0,
+                 criteria=None, norm_tol=1e-10):
+        self.members = [Objective(member, region, 0.0, delta, 0.0, peaks,
+                                  gain_bound, gain_weights, gain_units,
+                                  criteria, norm_tol)
+                        for member in problem.members]
+        first = self.members[0]
+        self.prob, self.region, self.shape = problem, region, first.shape
+        self.rho, self.delta, self.tikhonov = rho, delta, tikhonov
+        self.Ae, self.Ce = first.Ae, first.Ce
+        self.constrained = first.constrained
+        self.count = 0
+        self.reset_best()
+
+    def reset_best(self):
+        """Forget the best point inside the constraints seen so far."""
+        self.best = (np.inf, None)
+
+    def margin(self, G):
+        """Worst constraint margin over the models, and its gradient."""
+        return max((member.margin(G) for member in self.members),
+                   key=lambda item: item[0])
+
+    def norm(self, G):
+        """The worst minimised norm over the models at ``G``."""
+        return max(member.norm(G) for member in self.members)
+
+    def __call__(self, x, grad=True, above=None):
+        self.count += 1
+        G = x.reshape(self.shape)
+        sq = float(np.sum(G * G))
+        if above is not None:
+            # a line search only asks whether f(x) > above: any model's
+            # gain at its recent peak frequencies bounds f from below
+            # (as for one model, :meth:`Objective.__call__`)
+            peak = max(member.peak_bound(G) for member in self.members)
+            bound = self.tikhonov * sq + peak
+            if bound > above and peak >= self.best[0]:
+                return bound, None
+        parts = [member.pieces(x) for member in self.members]
+        i = max(range(len(parts)), key=lambda k: parts[k][0])
+        j = max(range(len(parts)), key=lambda k: parts[k][1])
+        gamma, m = parts[i][0], parts[j][1]
+        if math.isfinite(gamma) and m <= 0 and gamma < self.best[0]:
+            self.best = (gamma, G.copy())
+        return _penalty(self, x, G, sq, gamma, m, grad, parts[i][2],
+                        parts[j][3])
+
+
+def _penalty(obj, x, G, sq, gamma, m, grad, dgamma, dmargin):
+    """``(f, ∇f)`` of the exact penalty ``γ + τ ‖G‖² + ρ max(0, m + δ)``
+    from the norm ``γ``, the worst margin ``m`` and thunks of their
+    gradients (``inf`` where the error is unstable)."""
+    if not math.isfinite(gamma):
+        return np.inf, (np.zeros_like(x) if grad else None)
+    value = gamma + obj.tikhonov * sq
+    penalised = m + obj.delta > 0
+    if penalised:
+        value += obj.rho * (m + obj.delta)
+    if not grad:
+        return value, None
+    g = dgamma() + 2 * obj.tikhonov * G
+    if penalised:
+        g = g + obj.rho * dmargin()
+    return value, g.ravel()
+
+
+def objective_of(problem, region, *args, **kwargs):
+    """The objective of ``problem``: :class:`Objective`, or
+    :class:`WorstCase` for a problem of several plant models."""
+    cls = WorstCase if len(problem.members) > 1 else Objective
+    return cls(problem, region, *args, **kwargs)

@@ -33,8 +33,8 @@ from .._checks import (check_detectable, check_region_reachable,
                        check_system)
 from .floor import filter_floor
 from .tradeoff import tradeoff_of
-from ..exceptions import (GainWarning, ParameterError, SolverError,
-                          VerificationError)
+from ..exceptions import (GainWarning, ParameterError, RegionError,
+                          SolverError, VerificationError)
 from .criteria import NAMES
 from .convex import convex_stage
 from .refine import refine_gain
@@ -44,6 +44,7 @@ from .conditioning import (gain_bound, gain_norm, meets_bound,
                            warn_if_degenerate, warn_if_extreme,
                            warn_if_fragile, warn_if_held)
 from .memo import memoised, one_design
+from .lmi import check_lmi_memory, common_certificate
 from .verify import verify_design
 
 __all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem']
@@ -119,6 +120,8 @@ def _design(cls, problem, options, decay, region, system, what):
     if not warn_if_extreme(scaled, G, report, region):
         warn_if_degenerate(scaled, G, report, region)
     G = problem.unscale_gain(G, d)
+    if len(problem.members) > 1:
+        report.polytope = _polytope(problem, G, region, options, report)
     # the trade-off reports the H∞ floor γ∞*, whatever was minimised
     floor = report.stats.get('floor_level', _no_floor) \
         if criteria.objective == 'hinf' else floors.get('hinf', _no_floor)
@@ -134,6 +137,20 @@ def _design(cls, problem, options, decay, region, system, what):
     warn_if_fragile(report)
     report.time = time.perf_counter() - start
     return cls.from_problem(problem, G, report=report, **system)
+
+
+def _polytope(problem, G, region, options, report):
+    """The common-Lyapunov bound of ``G`` over the models' convex hull
+    (:func:`~controlext.synthesis.lmi.common_certificate`), or None;
+    never below a model's own norm."""
+    try:
+        check_lmi_memory(problem)
+    except SolverError:
+        return None
+    level = common_certificate(problem, G, region, options.solver)
+    if level is None or level < report.hinf * (1 - 1e-6):
+        return None
+    return level
 
 
 def _one_copy(problem, region, options, convex, bound, floor):
@@ -168,17 +185,30 @@ def _first_rows(bound, rows):
 
 def check_problem(problem, region, what='plant'):
     """Refuse a problem no gain can solve: an unstable mode unobservable
-    from the measurements, or an unobservable mode outside the region."""
-    check_detectable(problem.A, problem.C, problem.dt, what)
-    if region is not None:
-        check_region_reachable(problem.A, problem.C, region, problem.dt)
+    from the measurements, or an unobservable mode outside the region (of
+    any model, named when there are several)."""
+    members = problem.members
+    for k, member in enumerate(members, start=1):
+        name = what if len(members) == 1 else \
+            f"{what} (model {k} of {len(members)})"
+        check_detectable(member.A, member.C, member.dt, name)
+        if region is not None:
+            try:
+                check_region_reachable(member.A, member.C, region,
+                                       member.dt)
+            except RegionError as exc:
+                if len(members) == 1:
+                    raise
+                raise RegionError(f"on {name}: {exc}") from None
 
 
 def needs_refinement(problem, region):
     """Is the convex stage conservative for this problem?  With a pole
-    region (one Lyapunov matrix for the bound and the region) or more
-    than one copy (a common Lyapunov matrix never beats one copy)."""
-    return region is not None or problem.copies > 1
+    region (one Lyapunov matrix for the bound and the region), more
+    than one copy (a common Lyapunov matrix never beats one copy) or
+    more than one plant model (one Lyapunov matrix for all)."""
+    return region is not None or problem.copies > 1 or \
+        len(problem.members) > 1
 
 
 @memoised

@@ -175,6 +175,12 @@ class ObserverProblem:
 
 
     @property
+    def members(self) -> list[ObserverProblem]:
+        """The plant models of the problem: ``[self]`` here, one per model
+        for a :class:`~controlext.synthesis.models.ModelSet`."""
+        return [self]
+
+    @property
     def gain_shape(self) -> tuple[int, int]:
         """Shape ``(N n, N p)`` of the coupled gain ``G``."""
         return (self.copies * self.n, self.copies * self.p)
@@ -298,6 +304,11 @@ class ObserverProblem:
             fields['weights'] = self.weights
         fields.update(changes)
         return ObserverProblem(**fields)
+
+    def noise_scaled(self, factor: float) -> ObserverProblem:
+        """The problem with its noise channels ``(Bw, Dw)`` times
+        ``factor``."""
+        return self.replace(Bw=self.Bw * factor, Dw=self.Dw * factor)
 
     def single(self) -> ObserverProblem:
         """The same problem with one copy."""

@@ -19,7 +19,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, asdict
+from dataclasses import dataclass, field, asdict, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     from .regions import Region
     from .tradeoff import Tradeoff
 
-__all__ = ['DesignReport', 'verify_design']
+__all__ = ['DesignReport', 'ModelReport', 'verify_design']
 
 #: relative tolerance between a certified bound and the true norm
 BOUND_RTOL = 1e-5
@@ -45,6 +45,30 @@ BOUND_RTOL = 1e-5
 BOUND_ATOL = 1e-5
 #: relative tolerance of a norm bound (max_hinf=, max_h2=)
 NORM_RTOL = 1e-6
+
+
+@dataclass
+class ModelReport:
+    """The design on one plant model of a multi-model design.
+
+    Attributes
+    ----------
+    hinf : float
+        True H∞ norm of the error system on this model.
+    h2 : float or None
+        Its H2 norm, where the criteria involve it.
+    decay : float
+        Its rate of convergence.
+    poles : ndarray
+        Its error poles.
+    peak_frequency : float
+        Frequency of its peak gain.
+    """
+    hinf: float
+    h2: float | None
+    decay: float
+    poles: np.ndarray
+    peak_frequency: float
 
 
 @dataclass(repr=False)
@@ -97,6 +121,16 @@ class DesignReport:
         What the design trades besides γ (floor, H2 norm, transient, gain
         norm, decay sensitivity; :mod:`controlext.synthesis.tradeoff`):
         measured on every design a factory returns.
+    models : list of ModelReport or None
+        A design for several plant models: each model's numbers, the
+        nominal first.  ``hinf``, ``h2`` and ``decay`` are then the worst
+        case over the models and ``poles`` those of every model.
+    polytope : float or None
+        A design for several models whose gain has a common Lyapunov
+        certificate: the certified bound of its norm on every plant in the
+        convex hull of the models (their matrices' convex combinations),
+        each with its poles in the region; None where no such
+        certificate was found.
     """
     method: str
     hinf: float
@@ -115,6 +149,8 @@ class DesignReport:
     h2: float | None = None
     criteria: Criteria | None = None
     hinf_rounding: float = 0.0
+    models: list[ModelReport] | None = None
+    polytope: float | None = None
 
     @property
     def gamma_opt(self) -> float | None:
@@ -162,7 +198,32 @@ class DesignReport:
         lines.append(table_row('how the gain was found',
                                f"{origin(self.stage, self.method)} "
                                f"({self.time:.3g} s)"))
+        if self.models:
+            lines += self._models_text()
         return '\n'.join(lines)
+
+    def _models_text(self):
+        """The table of a multi-model design: one row per model."""
+        h2 = any(model.h2 is not None for model in self.models)
+        head = f"{'model':>13} {'H∞ norm γ':>12} " + \
+            (f"{'H2 norm':>12} " if h2 else "") + f"{'decay':>12}"
+        rows = [f"{len(self.models)} plant models, one gain "
+                "(worst case above):", head]
+        for k, model in enumerate(self.models, start=1):
+            label = f"{k}" + (" (nominal)" if k == 1 else "")
+            rows.append(f"{label:>13} {model.hinf:>12.6g} " + (
+                f"{model.h2:>12.6g} " if h2 and model.h2 is not None else
+                ("" if not h2 else f"{'—':>12} ")) + f"{model.decay:>12.6g}")
+        if self.polytope is not None:
+            rows.append(table_row(
+                'between the models', f"γ ≤ {self.polytope:.6g} and the "
+                "region on every plant of their convex hull (one Lyapunov "
+                "matrix certifies the gain on all)"))
+        else:
+            rows.append(table_row(
+                'between the models', "not certified: check a denser set "
+                "of models (controlext.check_models)"))
+        return rows
 
 
 #: the convex routes in words
@@ -206,6 +267,10 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
                   check=True, convex=None, criteria=None, **info):
     """Compute the report of gain ``G`` on ``problem`` and check it.
 
+    On a problem of several plant models (``problem.members``) every
+    model is verified; the report holds the worst case and each model's
+    numbers (:attr:`DesignReport.models`), and a refusal names the model.
+
     Raises :class:`VerificationError` (when ``check``) if the error system
     is unstable, a pole is outside ``region``, the true value of the
     minimised norm (``criteria``, default H∞) exceeds ``gamma_bound``
@@ -223,6 +288,18 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
         info = dict(dict(stage=convex.stage, gamma_convex=convex.gamma_convex,
                          solver=convex.solver, status=convex.status,
                          stats=convex.stats), **info)
+    members = problem.members
+    if len(members) > 1:
+        reports = []
+        for k, member in enumerate(members, start=1):
+            try:
+                reports.append(verify_design(
+                    member, G, region, gamma_bound, method, check, convex,
+                    criteria, **info))
+            except VerificationError as exc:
+                raise VerificationError(
+                    f"on model {k} of {len(members)}: {exc}") from None
+        return worst_case(reports)
     sys = ct.ss(*problem.error_system(G), problem.dt)
     poles = np.linalg.eigvals(sys.A) if sys.nstates else np.zeros(0)
     gamma, wpeak = hinfnorm_quiet(sys)
@@ -283,3 +360,27 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
         report.stats = dict(report.stats, limits=ratios)
     return report
 
+
+
+def worst_case(reports):
+    """One report of a design on several models: the worst case of each
+    number, every model's poles, and the models' own numbers."""
+    worst = max(range(len(reports)), key=lambda k: reports[k].hinf)
+    top = reports[worst]
+    h2 = [rep.h2 for rep in reports]
+    limits = {}
+    for rep in reports:
+        for name, ratio in rep.stats.get('limits', {}).items():
+            limits[name] = max(ratio, limits.get(name, ratio))
+    out = replace(reports[0], hinf=top.hinf, peak_frequency=top.peak_frequency,
+                  hinf_rounding=top.hinf_rounding,
+                  h2=None if any(v is None for v in h2) else max(h2),
+                  decay=min(rep.decay for rep in reports),
+                  poles=np.concatenate([rep.poles for rep in reports]),
+                  models=[ModelReport(hinf=rep.hinf, h2=rep.h2,
+                                      decay=rep.decay, poles=rep.poles,
+                                      peak_frequency=rep.peak_frequency)
+                          for rep in reports])
+    if limits:
+        out.stats = dict(out.stats, limits=limits)
+    return out
