@@ -137,3 +137,14 @@ def test_undetectable_augmented_plant_is_a_right_refusal(seed):
     counts, details = campaign(1, limit=120.0, start=seed, workers=1)
     assert details[0][2] == 'gi-aug'
     assert details[0][5] == 'refused right', details[0]
+
+
+@pytest.mark.parametrize('seed', [5, 38, 49, 115, 148])
+def test_designs_for_several_models_pass_the_judge(seed):
+    """Campaign calls of 2 to 4 models (every 11th seed): the gain's
+    error system rebuilt on every model, its poles in the region and
+    each model's stated norm against a grid and control.linfnorm."""
+    case = make_case(seed)
+    assert 2 <= len(case['models']) + 1 <= 4
+    counts, details = campaign(1, limit=120.0, start=seed, workers=1)
+    assert details[0][5] == 'verified', details[0]

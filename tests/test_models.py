@@ -223,3 +223,22 @@ def test_a_model_that_cannot_reach_the_region_is_named(no_solver):
     slow = ct.ss([[-1.0, 0.0], [0.0, -0.2]], [[1.0], [1.0]], [[1.0, 0.0]], 0)
     with pytest.raises(cx.RegionError, match="model 2 of 2"):
         cx.hinf_observer([good, slow], decay=0.5)
+
+
+def test_models_without_a_common_gain_are_named():
+    # L > 1.5 for the first model and L < -1.5 for the second: no gain
+    # puts both poles left of -0.5
+    first = ct.ss([[1.0]], [[1.0]], [[1.0]], 0)
+    second = ct.ss([[1.0]], [[1.0]], [[-1.0]], 0)
+    with pytest.raises(cx.VerificationError, match="models 1 and 2"):
+        cx.hinf_observer([first, second], decay=0.5)
+
+
+def test_gain_tolerance_holds_on_every_model(plants):
+    obs = cx.hinf_observer(plants, decay=DECAY, gain_tolerance=1e-6)
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        L = obs.L * (1 + 1e-6 * rng.uniform(-1, 1, obs.L.shape))
+        assert worst(plants, L)[1] >= DECAY * (1 - 1e-9)
+    ratios = obs.report.stats['limits']
+    assert ratios['gain_tolerance'] <= 1 + 1e-6

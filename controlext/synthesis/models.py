@@ -154,3 +154,38 @@ def for_models(plant: Any, build: Callable[..., ObserverProblem],
     members = [build(P, **{name: values[k] for name, values in split.items()})
                for k, P in enumerate(plants)]
     return members[0] if len(members) == 1 else ModelSet(members)
+
+
+def conflicts(problem: ObserverProblem, region: Any,
+              solver: str | None = None) -> list[tuple[int, int]]:
+    """The pairs of models ``(i, j)`` (numbered from 1) for which no gain
+    has one Lyapunov matrix keeping both models' poles in ``region`` (or
+    stable): the LMI of the region alone, on the two models.  Where a
+    common gain exists this LMI may still be infeasible (it is a
+    sufficient condition), so it names the likely conflict of a refusal,
+    not a proof."""
+    import cvxpy as cp
+    from .criteria import Criteria
+    from .lmi import _model_constraints
+    from .regions import Disk, HalfPlane
+    if region is None:
+        region = Disk(1.0) if problem.dt else HalfPlane(1e-9)
+    members = problem.members
+    out = []
+    for i in range(len(members)):
+        for j in range(i + 1, len(members)):
+            N = members[i].Ae.shape[0]
+            X = cp.Variable((N, N), symmetric=True)
+            Y = cp.Variable(members[i].gain_shape)
+            cons = [X >> np.eye(N)]
+            for member in (members[i], members[j]):
+                cons += _model_constraints(member, region, Criteria(), X, Y,
+                                           0.0)[0]
+            prob = cp.Problem(cp.Minimize(0), cons)
+            try:
+                prob.solve(solver=solver or cp.CLARABEL)
+            except cp.error.SolverError:
+                continue
+            if prob.status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
+                out.append((i + 1, j + 1))
+    return out

@@ -45,6 +45,7 @@ from .conditioning import (gain_bound, gain_norm, meets_bound,
                            warn_if_fragile, warn_if_held)
 from .memo import memoised, one_design
 from .lmi import check_lmi_memory, common_certificate
+from .models import conflicts
 from .verify import verify_design
 
 __all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem']
@@ -103,11 +104,13 @@ def _design(cls, problem, options, decay, region, system, what):
                              criteria=criteria, **info)
 
     bound = gain_bound(scaled, d, options.max_gain, region)
-    convex = convex_stage(scaled, region, options)      # bound-free
     try:
+        convex = convex_stage(scaled, region, options)      # bound-free
         G, report = synthesise(scaled, region, options, convex=convex,
                                check=check, bound=bound)
-    except VerificationError as exc:
+    except (VerificationError, SolverError) as exc:
+        if len(problem.members) > 1:
+            _refuse_models(problem, region, options, exc)
         if options.max_gain != 'auto' or not getattr(exc, 'bounded', False):
             raise
         # the default bound is a guard, not a requirement: where no design
@@ -137,6 +140,23 @@ def _design(cls, problem, options, decay, region, system, what):
     warn_if_fragile(report)
     report.time = time.perf_counter() - start
     return cls.from_problem(problem, G, report=report, **system)
+
+
+def _refuse_models(problem, region, options, exc):
+    """Raise the refusal of a design for several models, naming the pairs
+    of models that share no Lyapunov matrix of the region (the likely
+    conflict), if any."""
+    pairs = conflicts(problem, region, options.solver)
+    if not pairs:
+        return
+    where = 'the stability region' if region is None else str(region)
+    named = ', '.join(f"{i} and {j}" for i, j in pairs)
+    raise VerificationError(
+        f"no gain was found that puts the error poles of every model in "
+        f"{where}: models {named} admit no gain with one Lyapunov "
+        "matrix for both (a common gain for them is unlikely to exist); "
+        "design for fewer or closer models, or a looser region.  The "
+        f"steps that failed: {exc}") from None
 
 
 def _polytope(problem, G, region, options, report):

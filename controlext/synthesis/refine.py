@@ -387,7 +387,10 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         states, where only starts within 1.5x of the best screened one
         are polished.  The random starts are seeded perturbations of the
         given ones (32 for up to 16 entries, at most 8 per entry, fewer
-        for larger gains).  The objective adds ``tikhonov · γ₀ · ‖G‖² /
+        for larger gains).  A problem of ``k`` plant models, whose
+        evaluations cost ``k`` times as much, has ``k`` times fewer random
+        starts and polishing restarts.  The objective adds ``tikhonov ·
+        γ₀ · ‖G‖² /
         max(1, ‖G₁‖²)`` (``G₁`` the first given start), which keeps the
         gain finite where the infimum of the norm needs unbounded gains.
     seed : int, optional
