@@ -287,6 +287,20 @@ class Observer(ct.StateSpace):
         there, with its report, to check a design on a plant it was not
         designed for.
 
+        Parameters
+        ----------
+        plant : control.StateSpace
+            A plant with the observer's state, output and input counts
+            and timebase (the noise model, copies and weights are the
+            observer's).
+        name : str, optional
+            System name (default: the observer's name + ``'_on'``).
+
+        Returns
+        -------
+        Observer
+            Of this observer's class, with its report on ``plant``.
+
         Examples
         --------
         >>> import control as ct

@@ -180,7 +180,10 @@ class Objective:
         return Acl, lam, V, worst, crit
 
     def _margin_grad(self, lam, V, crit):
-        """Gradient of the critical margin with respect to G."""
+        """Gradient of the critical margin with respect to G (0 where no
+        margin is critical: a limit beyond an edge, without a region)."""
+        if crit is None:
+            return np.zeros(self.shape)
         if crit[0] == 'limit':
             return self.gain_units * crit[1] * crit[2]()
         if crit[0] == 'norm':
@@ -364,8 +367,6 @@ class Objective:
             return self._gradient(self.primary, Acl, Bcl, norms)
 
         def dmargin():
-            if crit is None:
-                return np.zeros(self.shape)
             return self._margin_grad(lam, V, crit)
 
         return gamma, m, dgamma, dmargin
