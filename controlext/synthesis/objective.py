@@ -356,6 +356,34 @@ class Objective:
                            np.linalg.eigvals(Acl),
                            (self.primary,), tol=EXACT)[self.primary][0]
 
+    def norm_gradient(self, x):
+        """``(γ, ∇γ)``: the minimised norm at the flat gain ``x`` and its
+        gradient (flat; ``inf`` and zeros where unstable)."""
+        gamma, _, dgamma, _ = self.pieces(x)
+        if not math.isfinite(gamma):
+            return np.inf, np.zeros_like(x)
+        return gamma, dgamma().ravel()
+
+    def active_gradients(self, G):
+        """The gradients (flat) of the constraint margins active at ``G``:
+        the region's margin of every pole within ``ACTIVE`` of an edge,
+        and the worst other margin (gain or norm bound, limit) if it is
+        that close to its bound."""
+        from .stationary import ACTIVE
+        G = np.asarray(G, dtype=float).reshape(self.shape)
+        out = []
+        if self.region is not None:
+            Acl = self.Ae - G @ self.Ce
+            lam, V = np.linalg.eig(Acl)
+            tol = ACTIVE * max(1.0, float(np.max(np.abs(lam))))
+            margins = self.region.margins(lam)
+            for i, j in zip(*np.nonzero(margins > -tol)):
+                out.append(self._margin_grad(lam, V, (int(i), int(j))).ravel())
+        worst, grad = self.margin(G)
+        if np.isfinite(worst) and worst > -ACTIVE * self.gain_units:
+            out.append(np.asarray(grad).ravel())
+        return out
+
     def pieces(self, x):
         """``(γ, m, dγ, dm)`` at the flat gain ``x``: the minimised norm,
         the worst constraint margin and thunks of their gradients (the
@@ -481,6 +509,16 @@ class WorstCase:
     def norm(self, G):
         """The worst minimised norm over the models at ``G``."""
         return max(member.norm(G) for member in self.members)
+
+    def norm_gradient(self, x):
+        """``(γ, ∇γ)`` of the worst model at the flat gain ``x``."""
+        return max((member.norm_gradient(x) for member in self.members),
+                   key=lambda item: item[0])
+
+    def active_gradients(self, G):
+        """The active constraints' gradients of every model."""
+        return [g for member in self.members
+                for g in member.active_gradients(G)]
 
     def __call__(self, x, grad=True, above=None):
         self.count += 1

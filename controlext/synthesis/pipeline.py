@@ -446,7 +446,7 @@ def synthesise(problem, region, options, convex=None, check=None,
     else:
         stats['refine'] = dict(start=res.start, starts=res.starts,
                                evaluations=res.evaluations, time=res.time,
-                               phases=res.phases)
+                               phases=res.phases, stationary=res.stationary)
         candidates = [(res.G, 'refined')]
     candidates += [(G, label) for label, G in starts[1:]] + grown
     method = f'{convex.method}+refine'

@@ -46,6 +46,7 @@ from .objective import objective_of
 from .options import RefineOptions
 from .placed import near_edge, placed_polish
 from .rates import REGION_TOL
+from .stationary import Stationarity, stationarity
 
 try:
     from threadpoolctl import ThreadpoolController
@@ -77,6 +78,9 @@ class RefineResult:
         pushes and short runs of every start), ``polish`` (the long runs
         of the best) and ``placed`` (the pole-cluster polish, where it
         ran).
+    stationary : Stationarity or None
+        The gradient-sampling test of the result
+        (:func:`~controlext.synthesis.stationary.stationarity`).
     """
     G: np.ndarray
     gamma: float
@@ -85,6 +89,7 @@ class RefineResult:
     evaluations: int = 0
     time: float = 0.0
     phases: dict = field(default_factory=dict)
+    stationary: Stationarity | None = None
 
 
 def _make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7)):
@@ -234,10 +239,15 @@ def _polish_step(args):
                            stop=None if enough is None else
                            lambda x, fx: obj.best[0] <= enough)
             run.update(x=x, value=fnew, fx=fnew, restart=run['restart'] + 1)
-            if not fnew < fx - tol * abs(fx) or run['restart'] > restarts:
+            inside = obj.margin(x.reshape(obj.shape))[0] <= 0
+            if inside and run['restart'] <= restarts and \
+                    stationarity(obj, x, run['restart']).passed:
+                # a stationary point inside the constraints: more steps
+                # would not move it
+                run['stop'] = True
+            elif not fnew < fx - tol * abs(fx) or run['restart'] > restarts:
                 if not obj.constrained or \
-                        run['escalation'] >= escalations \
-                        or obj.margin(x.reshape(obj.shape))[0] <= 0:
+                        run['escalation'] >= escalations or inside:
                     run['stop'] = True
                 else:
                     obj.rho *= 10
@@ -554,7 +564,9 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         results.sort(key=lambda item: item[0])
         phases['placed'] = time.perf_counter() - clock
     gamma, label, G = results[0]
+    test = stationarity(obj, G, seed)
     return RefineResult(G=G, gamma=float(gamma), start=label,
                         starts=[(lb, float(g)) for g, lb, _ in results],
-                        evaluations=evaluations,
-                        time=time.perf_counter() - t0, phases=phases)
+                        evaluations=evaluations + test.samples,
+                        time=time.perf_counter() - t0, phases=phases,
+                        stationary=test)

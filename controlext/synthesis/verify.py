@@ -160,6 +160,14 @@ class DesignReport:
              DeprecationWarning)
         return self.gamma_convex
 
+    @property
+    def stationary(self) -> bool | None:
+        """Did refinement's end point pass the gradient-sampling
+        stationarity test (:mod:`~controlext.synthesis.stationary`)?
+        None where the design was not refined."""
+        test = self.stats.get('refine', {}).get('stationary')
+        return None if test is None else bool(test.passed)
+
     def as_dict(self) -> dict[str, Any]:
         """The report as a plain dictionary."""
         return asdict(self)
@@ -198,6 +206,13 @@ class DesignReport:
         lines.append(table_row('how the gain was found',
                                f"{origin(self.stage, self.method)} "
                                f"({self.time:.3g} s)"))
+        test = self.stats.get('refine', {}).get('stationary')
+        if test is not None:
+            lines.append(table_row(
+                'refinement ended', "at a stationary point" if test.passed
+                else "short of a stationary point" +
+                f"  (gradient sampling: {test.measure:.2g} relative "
+                "decrease left)"))
         if self.models:
             lines += self._models_text()
         return '\n'.join(lines)
