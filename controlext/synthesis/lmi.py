@@ -330,7 +330,7 @@ def _build(problem, region, criteria):
     cons = [X >> eps * np.eye(N)]
     levels = []
     for member in problem.members:
-        more, level = _model_constraints(member, region, criteria, X, Y,
+        more, level = model_constraints(member, region, criteria, X, Y,
                                          eps)
         cons += more
         levels.append(level)
@@ -338,7 +338,7 @@ def _build(problem, region, criteria):
                                    for c in level(g)], cons
 
 
-def _model_constraints(problem, region, criteria, X, Y, eps):
+def model_constraints(problem, region, criteria, X, Y, eps):
     """The constraints of one model on ``(X, Y)`` and its ``level(g)``."""
     Ae, Ce, Bwe, Dwe, Cze = (problem.Ae, problem.Ce, problem.Bwe,
                              problem.Dwe, problem.Cze)

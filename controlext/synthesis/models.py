@@ -166,7 +166,7 @@ def conflicts(problem: ObserverProblem, region: Any,
     not a proof."""
     import cvxpy as cp
     from .criteria import Criteria
-    from .lmi import _model_constraints
+    from .lmi import model_constraints
     from .regions import Disk, HalfPlane
     if region is None:
         region = Disk(1.0) if problem.dt else HalfPlane(1e-9)
@@ -179,7 +179,7 @@ def conflicts(problem: ObserverProblem, region: Any,
             Y = cp.Variable(members[i].gain_shape)
             cons = [X >> np.eye(N)]
             for member in (members[i], members[j]):
-                cons += _model_constraints(member, region, Criteria(), X, Y,
+                cons += model_constraints(member, region, Criteria(), X, Y,
                                            0.0)[0]
             prob = cp.Problem(cp.Minimize(0), cons)
             try:
