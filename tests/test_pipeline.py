@@ -273,3 +273,36 @@ def test_repeated_sub_designs_are_made_once(monkeypatch):
     assert with_memo < len(made)
     assert np.array_equal(once.G, every.G)
     assert once.hinf == every.hinf
+
+
+@pytest.mark.parametrize('route', ['lmi', 'rescaled'])
+def test_the_convex_stage_keeps_its_certificate(route):
+    """The LMI's Lyapunov matrix is kept on the result (also mapped back
+    from the rescaled route's units): checked here by numpy on the
+    bounded-real and decay LMIs of the returned gain."""
+    import controlext as cx
+    from controlext.synthesis import ObserverProblem, SynthesisOptions
+    from controlext.synthesis.convex import _rescaled_lmi, convex_stage
+    # states in mixed units and a noise of size 30, for the rescaling
+    T = np.diag([1e-2, 1e2])
+    prob = ObserverProblem(T @ np.array([[-1.0, 1.0], [-1.0, 0.0]])
+                           @ np.linalg.inv(T),
+                           np.array([[1.0, 2.0]]) @ np.linalg.inv(T),
+                           Dw=[[30.0]], Cz=np.linalg.inv(T))
+    # at the LMI's optimum (margin 1) the certificate is tight: a wrongly
+    # scaled X fails it
+    options = SynthesisOptions(method='lmi', margin=1.0)
+    res = convex_stage(prob, cx.HalfPlane(1.0), options) if route == 'lmi' \
+        else _rescaled_lmi(prob, cx.HalfPlane(1.0), options)
+    X, G, g = res.certificate, res.G, res.gamma_bound
+    assert np.linalg.eigvalsh(X)[0] > 0
+    Acl, Bcl, Ccl, _ = prob.error_system(G)
+    Z = X @ Acl
+    brl = np.block([[Z + Z.T, X @ Bcl, Ccl.T],
+                    [(X @ Bcl).T, -g * np.eye(1), np.zeros((1, 2))],
+                    [Ccl, np.zeros((2, 1)), -g * np.eye(2)]])
+    # congruence with diag(1, 1, γ^-1/2 ...) keeps the sign: the scale of
+    # the test is the block's own
+    assert np.linalg.eigvalsh(brl)[-1] <= 1e-6 * np.linalg.norm(brl, 2)
+    decay = Z + Z.T + 2 * 1.0 * X
+    assert np.linalg.eigvalsh(decay)[-1] <= 1e-6 * np.linalg.norm(X, 2)

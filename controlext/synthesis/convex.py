@@ -78,6 +78,11 @@ class ConvexResult:
     report : DesignReport or None
         Its verification; None for a placed gain whose poles missed the
         region, which is only a start for refinement.
+    certificate : ndarray or None
+        The LMI's Lyapunov matrix ``X`` that certifies ``gamma_bound``
+        and the region for ``G`` (``X (Ae − G Ce)`` in the bounded-real
+        and region LMIs); None for the Riccati, placed and embedded
+        routes (an embedded design's is its ``luenberger`` result's).
     """
     G: np.ndarray
     gamma_bound: float
@@ -89,6 +94,7 @@ class ConvexResult:
     stats: dict = field(default_factory=dict)
     luenberger: 'ConvexResult | None' = None
     report: object = None
+    certificate: np.ndarray | None = None
 
 
 def riccati_applies(problem, region, criteria=None):
@@ -421,7 +427,7 @@ def _lmi_design(problem, region, options):
     return ConvexResult(G=sol.G, gamma_bound=sol.gamma_bound,
                         gamma_convex=sol.gamma_convex, method='lmi', stage='lmi',
                         solver=sol.stats['solver'], status=sol.status,
-                        stats={'lmi': sol.stats})
+                        stats={'lmi': sol.stats}, certificate=sol.X)
 
 
 def _rescaled_lmi(problem, region, options):
@@ -433,6 +439,10 @@ def _rescaled_lmi(problem, region, options):
     scaled = scaled.noise_scaled(1 / noise)
     res = _lmi_design(scaled, region, options)
     res.G = problem.unscale_gain(res.G, d)
+    # X of the scaled states and noise: D⁻¹ X D⁻¹ / (noise scale) certifies
+    # the problem's (the bounded-real lemma of B s at γ s holds with X / s)
+    inv = 1 / np.kron(np.ones(problem.copies), d)
+    res.certificate = res.certificate * np.outer(inv, inv) / noise
     res.gamma_bound *= noise
     res.gamma_convex *= noise
     res.method = 'lmi'
