@@ -242,3 +242,12 @@ def test_gain_tolerance_holds_on_every_model(plants):
         assert worst(plants, L)[1] >= DECAY * (1 - 1e-9)
     ratios = obs.report.stats['limits']
     assert ratios['gain_tolerance'] <= 1 + 1e-6
+
+
+def test_a_model_set_is_not_its_nominal_model_to_the_memo():
+    from controlext.synthesis.memo import key_of
+    from controlext.synthesis.models import ModelSet
+    from controlext.synthesis.problem import plant_problem
+    one = plant_problem(spring(1.0))
+    both = ModelSet([one, plant_problem(spring(2.0))])
+    assert key_of(one, None, None, None) != key_of(both, None, None, None)

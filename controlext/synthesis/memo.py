@@ -38,8 +38,10 @@ def one_design():
 
 def key_of(problem, region, bound, floor):
     """What, besides the options, a call of ``synthesise`` depends on."""
-    arrays = (problem.Ae, problem.Ce, problem.Bwe, problem.Dwe, problem.Cze,
-              np.asarray(problem.weights, dtype=float))
+    arrays = [M for member in problem.members
+              for M in (member.Ae, member.Ce, member.Bwe, member.Dwe,
+                        member.Cze)] + [np.asarray(problem.weights,
+                                                   dtype=float)]
     return (problem.copies, problem.dt, repr(region), floor,
             None if bound is None else (float(bound[0]),
                                         np.asarray(bound[1]).tobytes()),
