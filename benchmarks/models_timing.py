@@ -37,7 +37,7 @@ def main():
     parser.add_argument('--repeat', type=int, default=2)
     parser.add_argument('--kinds', default='hinf,coupled')
     args = parser.parse_args()
-    rows = []
+    rows, totals = [], [0.0, 0.0]
     print(f"{'plant':<16} {'kind':<8} {'one model s':>11} "
           f"{'three s':>9} {'ratio':>6} {'γ one':>9} {'γ three':>9} "
           f"{'decay on all (one)':>19}")
@@ -60,12 +60,16 @@ def main():
                     continue
             lost = min(one.on(P).decay for P in models)
             rows.append(t3 / t1)
+            totals[0] += t1
+            totals[1] += t3
             print(f"{name:<16} {kind:<8} {t1:>11.3f} {t3:>9.3f} "
                   f"{t3 / t1:>6.2f} {one.hinf:>9.4g} {three.hinf:>9.4g} "
                   f"{lost:>19.4g}")
     print(f"\nthree models against one: median ratio "
           f"{statistics.median(rows):.2f}, largest {max(rows):.2f} "
-          f"over {len(rows)} designs")
+          f"over {len(rows)} designs; all designs together "
+          f"{totals[1]:.1f} s against {totals[0]:.1f} s "
+          f"({totals[1] / totals[0]:.2f}x)")
 
 
 if __name__ == '__main__':
