@@ -125,10 +125,11 @@ def make_case(seed):
                 region=region, noise=noise, Bw_gi=Bw_gi,
                 no_solution=family == 'no-solution' and not in_region(
                     region, [unobservable_mode], dt), method=method)
-    if seed % 11 == 5:
+    if seed % 11 == 8:
         # a design for 2 to 4 models: the plant and copies of it with A
         # scaled by 0.85 to 1.15 (from their own stream); the unobservable
-        # mode of a 'no-solution' plant scales with it
+        # mode of a 'no-solution' plant scales with it.  (Residue 8: no
+        # seed the tests name for one model is among them.)
         more = np.random.default_rng([seed, 2])
         scales = more.uniform(0.85, 1.15, int(more.integers(1, 4)))
         case['models'] = [s * A for s in scales]

@@ -322,13 +322,15 @@ def _placed_design(problem, region):
     stability region): no bound to certify, a start for refinement.  Of
     the placement of the poles outside the region only
     (:func:`~controlext.synthesis.placement.partial_gain`) and that of
-    all of them, the one whose poles are deeper inside."""
+    all of them, the one whose poles are deeper inside (on every plant
+    model: the gains are placed on the nominal one)."""
     stable = Disk(1.0) if problem.dt else HalfPlane(0.0)
     target = region if region is not None else stable
 
     def worst(L):
-        lam = np.linalg.eigvals(problem.A - L @ problem.C)
-        return max(target.worst_margin(lam), stable.worst_margin(lam))
+        return max(max(target.worst_margin(lam), stable.worst_margin(lam))
+                   for lam in (np.linalg.eigvals(member.A - L @ member.C)
+                               for member in problem.members))
 
     gains, failure = [], None
     for place in (lambda: partial_gain(problem.A, problem.C, target, stable,
