@@ -351,8 +351,7 @@ def judge_models(case, obs):
                          case['dt']):
             return f'model {k}: poles outside the region'
         why = norm_check(ct.ss(Acl, Bcl, Ccl, 0, case['dt']), model.hinf,
-                         model.peak_frequency,
-                         getattr(obs.report, 'hinf_rounding', 0.0))[0]
+                         model.peak_frequency, model.hinf_rounding)[0]
         if why:
             return f'model {k}: {why}'
     if obs.hinf != max(model.hinf for model in models):

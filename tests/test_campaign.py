@@ -139,7 +139,7 @@ def test_undetectable_augmented_plant_is_a_right_refusal(seed):
     assert details[0][5] == 'refused right', details[0]
 
 
-@pytest.mark.parametrize('seed', [8, 30, 41, 63, 85])
+@pytest.mark.parametrize('seed', [8, 30, 63, 129, 140, 206])
 def test_designs_for_several_models_pass_the_judge(seed):
     """Campaign calls of 2 to 4 models (every 11th seed): the gain's
     error system rebuilt on every model, its poles in the region and

@@ -63,12 +63,16 @@ class ModelReport:
         Its error poles.
     peak_frequency : float
         Frequency of its peak gain.
+    hinf_rounding : float
+        The rounding bound included in ``hinf`` (see
+        :attr:`DesignReport.hinf_rounding`).
     """
     hinf: float
     h2: float | None
     decay: float
     poles: np.ndarray
     peak_frequency: float
+    hinf_rounding: float = 0.0
 
 
 @dataclass(repr=False)
@@ -394,7 +398,8 @@ def worst_case(reports):
                   poles=np.concatenate([rep.poles for rep in reports]),
                   models=[ModelReport(hinf=rep.hinf, h2=rep.h2,
                                       decay=rep.decay, poles=rep.poles,
-                                      peak_frequency=rep.peak_frequency)
+                                      peak_frequency=rep.peak_frequency,
+                                      hinf_rounding=rep.hinf_rounding)
                           for rep in reports])
     if limits:
         out.stats = dict(out.stats, limits=limits)
