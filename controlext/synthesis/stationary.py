@@ -34,7 +34,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import nnls
+from scipy.optimize import lsq_linear
 
 __all__ = ['Stationarity', 'stationarity', 'min_norm_element', 'ACTIVE']
 
@@ -73,7 +73,7 @@ def min_norm_element(grads: np.ndarray, cone: np.ndarray | None = None
     """The shortest vector ``Σ λ_i g_i + Σ μ_j c_j`` with the ``g_i`` the
     rows of ``grads`` in a convex combination (``λ >= 0``, ``Σ λ = 1``)
     and the ``c_j`` the rows of ``cone`` with any weights ``μ >= 0``
-    (nonnegative least squares, the sum held at 1 by a heavy row)."""
+    (bounded least squares, the sum held at 1 by a heavy row)."""
     grads = np.asarray(grads, dtype=float)
     cone = np.zeros((0, grads.shape[1])) if cone is None else \
         np.asarray(cone, dtype=float)
@@ -87,7 +87,10 @@ def min_norm_element(grads: np.ndarray, cone: np.ndarray | None = None
     ones = np.concatenate([np.ones(len(grads)), np.zeros(len(cone))])
     M = np.vstack([rows.T / scale, heavy * ones])
     rhs = np.concatenate([np.zeros(grads.shape[1]), [heavy]])
-    weights, _ = nnls(M, rhs, maxiter=50 * M.shape[1])
+    # bounded least squares by lstsq steps (scipy's nnls of 1.12-1.13
+    # raised on singular and slow problems; this one gives the same
+    # answer from the lower bounds to the newest)
+    weights = lsq_linear(M, rhs, bounds=(0.0, np.inf), method='bvls').x
     weights = weights / max(float(np.sum(weights[:len(grads)])), 1e-300)
     return weights @ rows
 
