@@ -109,16 +109,17 @@ def _design(cls, problem, options, decay, region, system, what):
         G, report = synthesise(scaled, region, options, convex=convex,
                                check=check, bound=bound)
     except (VerificationError, SolverError) as exc:
-        if len(problem.members) > 1:
-            _refuse_models(problem, region, options, exc)
         if options.max_gain != 'auto' or not getattr(exc, 'bounded', False):
-            raise
+            _refuse(problem, region, options, exc)
         # the default bound is a guard, not a requirement: where no design
         # within it exists (a nearly unobservable plant), the unbounded
         # design is returned, with the GainWarning of warn_if_extreme
         bound = None
-        G, report = synthesise(scaled, region, options, convex=convex,
-                               check=check)
+        try:
+            G, report = synthesise(scaled, region, options, convex=convex,
+                                   check=check)
+        except (VerificationError, SolverError) as again:
+            _refuse(problem, region, options, again)
     warn_if_held(bound, G, report, options.max_gain)
     if not warn_if_extreme(scaled, G, report, region):
         warn_if_degenerate(scaled, G, report, region)
@@ -142,13 +143,14 @@ def _design(cls, problem, options, decay, region, system, what):
     return cls.from_problem(problem, G, report=report, **system)
 
 
-def _refuse_models(problem, region, options, exc):
-    """Raise the refusal of a design for several models, naming the pairs
-    of models that share no Lyapunov matrix of the region (the likely
+def _refuse(problem, region, options, exc):
+    """Raise the refusal ``exc``; for several models, naming the pairs of
+    models that share no Lyapunov matrix of the region (the likely
     conflict), if any."""
-    pairs = conflicts(problem, region, options.solver)
+    pairs = [] if len(problem.members) == 1 else \
+        conflicts(problem, region, options.solver)
     if not pairs:
-        return
+        raise exc
     where = 'the stability region' if region is None else str(region)
     named = ', '.join(f"{i} and {j}" for i, j in pairs)
     raise VerificationError(
