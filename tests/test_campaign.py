@@ -148,3 +148,13 @@ def test_designs_for_several_models_pass_the_judge(seed):
     assert 2 <= len(case['models']) + 1 <= 4
     counts, details = campaign(1, limit=120.0, start=seed, workers=1)
     assert details[0][5] == 'verified', details[0]
+
+
+def test_a_multi_model_refusal_leaks_no_solver_warning():
+    """Campaign seed 85 (two models, no common gain found): the pairwise
+    LMIs that name the conflicting models let cvxpy's 'solution may be
+    inaccurate' reach the user."""
+    counts, details = campaign(1, limit=120.0, start=85, workers=1)
+    assert details[0][5] in ('refused', 'refused right'), details[0]
+    assert 'models 1 and 2' in details[0][6]
+    assert details[0][7] == []

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from typing import Any
+import warnings
 
 import numpy as np
 
@@ -183,7 +184,11 @@ def conflicts(problem: ObserverProblem, region: Any,
                                            0.0)[0]
             prob = cp.Problem(cp.Minimize(0), cons)
             try:
-                prob.solve(solver=solver or cp.CLARABEL)
+                # (a diagnosis: cvxpy's notes on its accuracy are not the
+                # user's business)
+                with warnings.catch_warnings():
+                    warnings.simplefilter('ignore')
+                    prob.solve(solver=solver or cp.CLARABEL)
             except cp.error.SolverError:
                 continue
             if prob.status in (cp.INFEASIBLE, cp.INFEASIBLE_INACCURATE):
