@@ -251,3 +251,22 @@ def test_a_model_set_is_not_its_nominal_model_to_the_memo():
     one = plant_problem(spring(1.0))
     both = ModelSet([one, plant_problem(spring(2.0))])
     assert key_of(one, None, None, None) != key_of(both, None, None, None)
+
+
+def test_limits_hold_on_every_model(plants):
+    """settling_time= and max_gain= on three models: the error envelope
+    from the worst unit initial error, by scipy's matrix exponential on a
+    grid past the settling time, and the gain's norm, checked per
+    model."""
+    import scipy.linalg as la
+    T = 15.0
+    obs = cx.hinf_observer(plants, decay=DECAY, settling_time=T)
+    for P in plants:
+        Acl = np.asarray(P.A) - obs.L @ P.C
+        start = 1.0                 # ‖Cz X0‖₂ with Cz = X0 = I
+        worst_after = max(np.linalg.norm(la.expm(Acl * t), 2)
+                          for t in np.linspace(T, 4 * T, 301))
+        assert worst_after <= 0.02 * start * (1 + 1e-3)
+    bounded = cx.hinf_observer(plants, decay=DECAY, max_gain=3.0)
+    assert np.linalg.norm(bounded.L, 2) <= 3.0 * (1 + 1e-6)
+    assert worst(plants, bounded.L)[1] >= DECAY * (1 - 1e-6)
