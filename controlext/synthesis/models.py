@@ -93,8 +93,9 @@ class ModelSet(ObserverProblem):
         return ModelSet([member.scaled(d) for member in self._members])
 
     def state_scaling(self, sweeps: int = 50) -> np.ndarray:
-        """The nominal model's scaling, of the states every model shares
-        (a geometric mean over the models moved the nominal design)."""
+        """The nominal model's scaling: the states are the same in every
+        model, and the nominal one's units keep its realisation that of
+        a one-model design."""
         return self._members[0].state_scaling(sweeps)
 
 
