@@ -296,10 +296,14 @@ def hinf_observer(plant: Plant, decay: float | None = None,
     gain_tolerance : float, optional
         Relative error of every gain entry under which the error poles
         must stay in the region, certified
-        (:mod:`~controlext.synthesis.limits`; half-plane and disk regions):
-        ``5e-6`` keeps the decay of gains rounded to 6 significant
-        digits.  Both limits are held by refinement and verified on the
-        result.
+        (:mod:`~controlext.synthesis.limits`; half-plane and disk regions),
+        and the gain rounded to ``⌈−log10 ε⌉`` significant digits keeps
+        them there.  Default ``1e-6`` (6 digits) wherever refinement runs
+        and the region is made of half-planes and disks; ``0`` gives the
+        nominal optimum.  Where no design meets the default, the nominal
+        optimum is returned with a ``GainWarning``; a tolerance given
+        explicitly is a requirement.  Both limits are held by refinement
+        and verified on the result.
     options : SynthesisOptions, optional
         Every tunable of the engine (``lmi_max_states``, ``modal_guard``,
         …); the keywords above override it where they differ from their

@@ -97,7 +97,8 @@ def test_imaginary_axis_modes_are_designed(name):
     assert np.linalg.matrix_rank(ct.obsv(A, C)) == A.shape[0]   # observable
     # without a region the H∞ optimum leaves the axis mode all but on the
     # axis (the infimum is not attained), which is said, and nothing else
-    obs = strict_but(lambda: cx.hinf_observer(plant), 'Ask for decay=')
+    obs = strict_but(lambda: cx.hinf_observer(plant, gain_tolerance=0),
+                     'Ask for decay=')
     assert obs.report.stage == 'riccati'
     # the other convex route, the LMI, gives the infimum γ*
     lmi = cx.hinf_observer(plant, method='lmi', refine=False)
@@ -258,8 +259,18 @@ def test_design_does_not_depend_on_state_units(T, factory, kwargs,
                                                same_gain):
     """x' = T x: the same observer, so the same γ and poles, and L' = T L
     where the optimum is unique (the coupled optimum is degenerate:
-    different gains reach the same γ)."""
+    different gains reach the same γ).  The nominal optima; the default
+    designs, which split the optimum's double pole along a direction
+    their search finds, agree in γ to 1e-4 (0.82880 and 0.82882 in
+    refinement's two realisations) and keep the decay."""
     Ti = np.linalg.inv(T)
+    robust = [factory(ct.ss(A2, B2, C2, 0), Bw=BW2, Dw=DW2, **kwargs),
+              factory(ct.ss(T @ A2 @ Ti, T @ B2, C2 @ Ti, 0), Bw=T @ BW2,
+                      Dw=DW2, Cz=Ti, **kwargs)]
+    assert robust[1].hinf == pytest.approx(robust[0].hinf, rel=1e-4)
+    for obs in robust:
+        assert np.max(ct.poles(obs).real) <= -kwargs.get('decay', 0)
+    kwargs = dict(kwargs, gain_tolerance=0)
     plain = factory(ct.ss(A2, B2, C2, 0), Bw=BW2, Dw=DW2, **kwargs)
     units = factory(ct.ss(T @ A2 @ Ti, T @ B2, C2 @ Ti, 0), Bw=T @ BW2,
                     Dw=DW2, Cz=Ti, **kwargs)

@@ -35,9 +35,10 @@ def test_min_norm_element_is_the_qp_solution(seed):
 def test_paper_designs_end_at_stationary_points():
     scalar = ct_ss([[-0.5]], [[1.0]], [[1.0]])
     second = ct_ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]])
-    for obs in (cx.coupled_observer(scalar, decay=2.5),
-                cx.hinf_observer(second, decay=1.0),
-                cx.coupled_observer(second, decay=1.0)):
+    # the nominal optima (the published numbers' designs)
+    for obs in (cx.coupled_observer(scalar, decay=2.5, gain_tolerance=0),
+                cx.hinf_observer(second, decay=1.0, gain_tolerance=0),
+                cx.coupled_observer(second, decay=1.0, gain_tolerance=0)):
         assert obs.report.stationary is True
         assert 'at a stationary point' in str(obs.report)
 

@@ -80,7 +80,8 @@ class Criteria:
         unit initial error (in the plant's time units).
     gain_tolerance : float or None
         The relative error of every gain entry under which the error poles
-        must stay in the region (in ``(0, 0.1]``).
+        must stay in the region (in ``[0, 0.1]``; 0 or None: none, the
+        nominal optimum).
     """
     objective: str = 'hinf'
     max_hinf: float | None = None
@@ -99,8 +100,8 @@ class Criteria:
             self.settling_time, 'settling_time', low=0, low_open=True,
             optional=True))
         set_('gain_tolerance', check_number(
-            self.gain_tolerance, 'gain_tolerance', low=0, low_open=True,
-            high=0.1, optional=True))
+            self.gain_tolerance, 'gain_tolerance', low=0, high=0.1,
+            optional=True))
         own = getattr(self, f'max_{self.objective}')
         if own is not None:
             other = 'h2' if self.objective == 'hinf' else 'hinf'
@@ -130,7 +131,7 @@ class Criteria:
         return tuple((name, value) for name, value in
                      (('settling_time', self.settling_time),
                       ('gain_tolerance', self.gain_tolerance))
-                     if value is not None)
+                     if value)
 
     @property
     def convex(self) -> Criteria:

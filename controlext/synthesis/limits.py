@@ -21,11 +21,14 @@ convex in the gain); its design is a start.
     Every gain entry may be off by a relative error of ``ε`` (a gain
     printed to ``d`` significant digits is off by at most
     ``5·10^{−d}``) and the error poles stay in the region.  Rounding adds
-    ``Δ`` with ``|Δ_ij| <= ε |G_ij|``, so ``‖Δ‖₂ <= ε ‖G‖_F``; an
-    eigenvalue of ``Acl − Δ Ce`` reaches a boundary point ``z`` only if
-    ``‖Δ‖₂ ‖Ce (z I − Acl)⁻¹‖₂ >= 1``.  The certified ratio is therefore
+    ``Δ`` with ``|Δ_ij| <= ε |G_ij|``, so ``‖Δ‖₂ <= ε ‖|G|‖₂`` (the
+    spectral norm is monotone on nonnegative matrices; ``|G|`` is the
+    entrywise absolute value, and ``‖|G|‖₂ <= ‖G‖_F``, with no growth
+    over identical uncoupled copies); an eigenvalue of ``Acl − Δ Ce``
+    reaches a boundary point ``z`` only if ``‖Δ‖₂ ‖Ce (z I − Acl)⁻¹‖₂ >=
+    1``.  The certified ratio is therefore
 
-        r(G) = ε ‖G‖_F · max over the region's edges of
+        r(G) = ε ‖|G|‖₂ · max over the region's edges of
                sup_{z on the edge} ‖Ce (z I − Acl)⁻¹‖₂,
 
     and ``r < 1`` proves that no such perturbation moves a pole out.  On
@@ -37,6 +40,10 @@ convex in the gain); its design is a start.
     gain errors), so verification accepts the certificate in the given
     units or in the canonical ones of
     :meth:`~controlext.synthesis.problem.ObserverProblem.state_scaling`.
+    Verification also rounds the gain to ``d = ⌈−log10 ε⌉`` significant
+    digits (6 for ``ε = 1e-6``) and checks the region on that gain: a
+    rounding is off by up to ``5·10^{−d}``, beyond the certificate, and
+    is what a gain printed to ``d`` digits is.
 
 Examples
 --------
@@ -58,7 +65,7 @@ import scipy.linalg as la
 
 from ..norms import hinfnorm_matrices
 from .rates import SETTLING_BAND
-from .tradeoff import transient
+from .tradeoff import rounded_keeps, transient
 
 __all__ = ['GainTolerance', 'SettlingTime', 'limits_of', 'edges_of']
 
@@ -128,7 +135,7 @@ class GainTolerance:
         (``inf`` when a pole is outside an edge)."""
         w = np.ones(G.shape[0]) if w is None else w
         Gw = G / w[:, None]
-        F = float(np.linalg.norm(Gw))
+        F, fu, fv = _unit(np.abs(Gw)) if G.size else (0.0, None, None)
         peaks = self._edge_peaks(Acl, Ce, w)
         h, z = max(peaks, key=lambda item: item[0])
         value = self.eps * F * h
@@ -143,25 +150,42 @@ class GainTolerance:
             b = np.linalg.solve(M, w * v)
             dA = np.real(np.outer(a.conj(), b))
             dh = -dA @ Ce.T                 # Acl = Ae − G Ce
-            dF = Gw / w[:, None] / F if F > 0 else np.zeros_like(G)
+            dF = np.sign(G) * np.outer(fu, fv) / w[:, None] if F > 0 \
+                else np.zeros_like(G)
             return self.eps * (h * dF + F * dh)
 
         return float(value), gradient
 
+    @property
+    def digits(self):
+        """The significant digits a gain is rounded to in verification:
+        ``⌈−log10 ε⌉``."""
+        return int(np.ceil(-np.log10(self.eps) - 1e-9))
+
     def explain(self, ratio):
         """What a ratio above 1 means, for a refusal."""
+        if ratio == float('inf'):
+            return (f"leaves its region when its gain is rounded to "
+                    f"{self.digits} significant digits "
+                    f"(gain_tolerance={self.eps:.3g})")
         return (f"keeps its region certified only under relative gain "
                 f"errors up to {self.eps / ratio:.3g}, less than "
                 f"gain_tolerance={self.eps:.3g}")
 
     def verify(self, problem, G, region=None):
         """The certified ratio of ``G`` on ``problem``: the smaller of the
-        given and the canonical units' (``<= 1``: certified)."""
+        given and the canonical units' (``<= 1``: certified); ``inf`` when
+        the gain rounded to :attr:`digits` digits leaves the region."""
+        G = np.asarray(G, float)
         Acl = problem.error_system(G)[0]
         scale = np.kron(np.ones(problem.copies), problem.state_scaling())
         limit = GainTolerance(self.eps, region, problem.dt)
-        return min(limit.ratio(np.asarray(G, float), Acl, problem.Ce, w)[0]
-                   for w in (np.ones(G.shape[0]), scale))
+        ratio = min(limit.ratio(G, Acl, problem.Ce, w)[0]
+                    for w in (np.ones(G.shape[0]), scale))
+        if np.isfinite(ratio) and self.digits <= 17 and \
+                not rounded_keeps(problem, G, region, self.digits):
+            return float('inf')
+        return ratio
 
 
 class SettlingTime:
@@ -264,7 +288,7 @@ def limits_of(criteria, problem, region=None):
     out = []
     if criteria.settling_time is not None:
         out.append(SettlingTime(criteria.settling_time, problem))
-    if criteria.gain_tolerance is not None:
+    if criteria.gain_tolerance:
         out.append(GainTolerance(criteria.gain_tolerance, region,
                                  problem.dt))
     return out

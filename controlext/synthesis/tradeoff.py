@@ -56,7 +56,7 @@ if TYPE_CHECKING:
     from .regions import Region
 
 __all__ = ['Tradeoff', 'tradeoff_of', 'h2_norm', 'transient',
-           'decay_sensitivity', 'digits_needed']
+           'decay_sensitivity', 'digits_needed', 'rounded_keeps']
 
 #: relative gain perturbations the sensitivity is reported for
 PERTURBATIONS = (1e-6, 1e-3)
@@ -249,6 +249,23 @@ def decay_sensitivity(problem: ObserverProblem, G: ArrayLike,
     return float(worst)
 
 
+def rounded_keeps(problem: ObserverProblem, G: ArrayLike,
+                  region: Region | None, digits: int) -> bool:
+    """Do the entries of ``G`` rounded to ``digits`` significant digits
+    keep the error poles in ``region`` (or stable), to the verification's
+    tolerance?"""
+    G = np.asarray(G, dtype=float)
+    Gr = np.array([[float(f"{x:.{digits - 1}e}") for x in row]
+                   for row in G]) if G.size else G
+    poles = la.eigvals(problem.error_system(Gr)[0])
+    if decay_rate(poles, problem.dt) <= 0:
+        return False
+    if region is None:
+        return True
+    scale = max(1.0, float(np.max(np.abs(poles))) if poles.size else 1.0)
+    return bool(region.worst_margin(poles) <= REGION_TOL * scale)
+
+
 def digits_needed(problem: ObserverProblem, G: ArrayLike,
                   region: Region | None = None) -> int:
     """The fewest significant digits ``d`` (3-17) such that the entries
@@ -261,22 +278,9 @@ def digits_needed(problem: ObserverProblem, G: ArrayLike,
     those digits enough.
     """
     G = np.asarray(G, dtype=float)
-
-    def keeps(digits):
-        Gr = np.array([[float(f"{x:.{digits - 1}e}") for x in row]
-                       for row in G]) if G.size else G
-        poles = la.eigvals(problem.error_system(Gr)[0])
-        if decay_rate(poles, problem.dt) <= 0:
-            return False
-        if region is None:
-            return True
-        scale = max(1.0, float(np.max(np.abs(poles))) if poles.size
-                    else 1.0)
-        return bool(region.worst_margin(poles) <= REGION_TOL * scale)
-
     needed = 17
     for digits in range(17, 2, -1):
-        if not keeps(digits):
+        if not rounded_keeps(problem, G, region, digits):
             break
         needed = digits
     return needed
