@@ -13,15 +13,11 @@ import pytest
 
 import controlext as cx
 from controlext.exceptions import GainWarning
+from plants import PUBLIC
 
 SCALAR = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
 SECOND = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]], 0)
-B747 = ct.ss([[-0.0558, -0.9968, 0.0802, 0.0415],
-              [0.5980, -0.1150, -0.0318, 0.0],
-              [-3.0500, 0.3880, -0.4650, 0.0],
-              [0.0, 0.0805, 1.0000, 0.0]],
-             [[0.0073, 0.0], [-0.4750, 0.0077], [0.1530, 0.1430], [0, 0]],
-             [[0, 1, 0, 0], [0, 0, 0, 1]], np.zeros((2, 2)))
+B747 = PUBLIC['747 lateral']         # two sensors, two inputs
 
 
 def rounded(G, digits=6):
