@@ -421,10 +421,8 @@ def synthesise(problem, region, options, convex=None, check=None,
         if repair:
             # the nominal optimum and the design of the loosest tolerance
             # are the starts: the first is where the norm is least, the
-            # second splits the nominal optimum's pole clusters (paper
-            # plants: +0.05 to +1.37 % over the nominal γ, against +0.04
-            # to +1.64 % from the usual starts and random ones, in 0.3 to
-            # 0.7 times their time; benchmarks/robust_decay.py)
+            # second has split the nominal optimum's pole clusters
+            # (benchmarks/robust_decay.py measures what it costs)
             refine_options = replace(refine_options, random_starts=0)
     if not repair and bound is not None and not within and \
             gain_norm(bound, convex.G) > GAIN_LADDER * bound[0]:
@@ -595,6 +593,8 @@ def _tolerant(problem, region, options, convex, bound, floor, check):
     except (VerificationError, SolverError):
         return None, starts, False
     return None, [(f'gain_tolerance={TOLERANCE_TOP:g}', Gt)] + starts, True
+
+
 #: a gain bound far below the convex design's gain starts from the design
 #: within this many times the bound
 GAIN_LADDER = 1.5
