@@ -11,8 +11,8 @@ Examples
 >>> import control as ct
 >>> import controlext as cx
 >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
->>> pair = cx.coupled_observer(plant, decay=2.5)
->>> bool(pair.hinf <= 0.4953)
+>>> pair = cx.coupled_observer(plant, decay=2.5, gain_tolerance=0)
+>>> bool(pair.hinf <= 0.4953)           # the nominal optimum: the paper's
 True
 """
 
@@ -252,8 +252,8 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     >>> import control as ct
     >>> import controlext as cx
     >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
-    >>> obs = cx.coupled_observer(plant, decay=2.5)
-    >>> bool(obs.hinf <= 0.4953), bool(obs.decay >= 2.5 - 1e-6)
+    >>> obs = cx.coupled_observer(plant, decay=2.5)   # robust decay
+    >>> bool(obs.hinf <= 0.4953 * 1.002), bool(obs.decay >= 2.5 - 1e-6)
     (True, True)
     """
     copies = check_copies(copies, 2)

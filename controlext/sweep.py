@@ -126,7 +126,7 @@ def sweep(plant: Plant, parameter: str, values: Sequence[Any], *,
     >>> import control as ct
     >>> import controlext as cx
     >>> plant = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
-    >>> s = cx.sweep(plant, 'copies', [1, 2], decay=2.5)
+    >>> s = cx.sweep(plant, 'copies', [1, 2], decay=2.5, gain_tolerance=0)
     >>> [round(r.hinf, 4) for r in s.rows]
     [0.8, 0.4953]
     """
