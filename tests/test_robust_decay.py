@@ -13,7 +13,7 @@ import pytest
 
 import controlext as cx
 from controlext.exceptions import GainWarning
-from plants import PUBLIC
+from plants import PUBLIC, noise_model
 
 SCALAR = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
 SECOND = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]], 0)
@@ -66,8 +66,11 @@ def test_paper_designs_keep_their_decay(plant, decay, copies, published):
     assert obs.report.stats['limits']['gain_tolerance'] <= 1 + 1e-6
     # the cost in γ: within 1.5 % of the nominal optimum (three copies
     # of the second-order plant: +1.15 % with numpy 2.4, +1.53 % with
-    # numpy 2.5, where the repair ends elsewhere; 2 % is asserted there)
-    within = 1.02 if copies == 3 and plant is SECOND else 1.015
+    # numpy 2.5, where the repair ends elsewhere; 2 % is asserted there);
+    # a pair's repaired nominal optimum within 0.5 % (measured +0.06 %
+    # and +0.07 %)
+    within = 1.005 if copies == 2 else \
+        1.02 if copies == 3 and plant is SECOND else 1.015
     assert nominal.hinf * (1 - 1e-6) <= obs.hinf <= within * nominal.hinf
 
 
@@ -189,3 +192,23 @@ def test_default_design_survives_tiny_plant_perturbations():
         C = SCALAR.C * (1 + 1e-13 * rng.uniform(-1, 1, SCALAR.C.shape))
         moved = cx.coupled_observer(ct.ss(A, SCALAR.B, C, 0), decay=2.5)
         assert moved.hinf == pytest.approx(base, rel=2e-3)
+
+
+def test_repaired_nominal_optimum_on_a_public_plant():
+    """HE1 (4 states, 2 sensors): the nominal optimum's poles are fragile;
+    the default design is its repair, within 0.5 % of it (the public
+    plants' allowance), and keeps its decay; both norms recomputed with
+    ``ct.linfnorm`` on error systems rebuilt from the gains."""
+    plant = PUBLIC['HE1']
+    Bw, Dw = noise_model(plant)
+    nominal = cx.hinf_observer(plant, decay=0.5, Bw=Bw, Dw=Dw,
+                               gain_tolerance=0)
+    obs = cx.hinf_observer(plant, decay=0.5, Bw=Bw, Dw=Dw)
+    keeps(obs, -0.5)
+
+    def norm(o):
+        p = o.problem
+        return ct.linfnorm(ct.ss(p.Ae - o.G @ p.Ce, o.G @ p.Dwe - p.Bwe,
+                                 p.Cze, 0))[0]
+    assert norm(nominal) * (1 - 1e-6) <= norm(obs) <= \
+        1.005 * norm(nominal)

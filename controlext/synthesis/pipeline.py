@@ -10,7 +10,9 @@ Luenberger-equivalent design ``I_N ⊗ L`` of the same problem with one
 copy, itself designed by this pipeline.  Every candidate is verified
 (:func:`~controlext.synthesis.verify.verify_design`) and the one with the
 smallest true norm is returned, so a coupled design is never worse than
-the best one-copy design found for the same region.
+the best one-copy design found for the same region.  A gain tolerance
+(the factories' default) is designed from the nominal optimum
+(:mod:`~controlext.synthesis.tolerance`).
 
 Examples
 --------
@@ -34,13 +36,13 @@ from .._checks import (check_detectable, check_region_reachable,
                        check_system)
 from .floor import filter_floor
 from .tradeoff import tradeoff_of
-from ..exceptions import (ArgumentError, GainWarning, ParameterError,
+from ..exceptions import (GainWarning, ParameterError,
                           RegionError, SolverError, VerificationError)
 from .criteria import NAMES
 from .convex import convex_stage
 from .refine import refine_gain
 from .regions import region_for
-from .limits import edges_of, limits_of
+from .limits import limits_of
 from .conditioning import (gain_bound, gain_norm, meets_bound,
                            warn_if_degenerate, warn_if_extreme,
                            warn_if_fragile, warn_if_held)
@@ -48,6 +50,7 @@ from .memo import memoised, one_design
 from .lmi import check_lmi_memory, common_certificate
 from .models import conflicts
 from .verify import verify_design
+from .tolerance import GAIN_TOLERANCE, NOMINAL, robust_default, tolerant
 
 __all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem']
 
@@ -100,7 +103,7 @@ def _design(cls, problem, options, decay, region, system, what):
         d = np.ones_like(d)
     scaled = problem.scaled(d)
 
-    options, default = _robust_default(options, region)
+    options, default = robust_default(options, region)
     try:
         G, report, bound = _attempt(problem, scaled, d, region, options)
     except (VerificationError, SolverError):
@@ -139,26 +142,6 @@ def _design(cls, problem, options, decay, region, system, what):
     warn_if_fragile(report)
     report.time = time.perf_counter() - start
     return cls.from_problem(problem, G, report=report, **system)
-
-
-#: the factories' default gain tolerance: a design keeps its region under
-#: relative gain errors of this size, certified, and when its gain is
-#: rounded to 6 significant digits (``gain_tolerance=0``: the nominal
-#: optimum)
-GAIN_TOLERANCE = 1e-6
-
-
-def _robust_default(options, region):
-    """``(options, default)``: the options with the default gain tolerance
-    where none is given, refinement runs and the region's edges carry the
-    certificate (half-planes and disks), and whether it was applied."""
-    if options.gain_tolerance is not None or not options.refine:
-        return options, False
-    try:
-        edges_of(region)
-    except ArgumentError:
-        return options, False
-    return options.replace(gain_tolerance=GAIN_TOLERANCE), True
 
 
 def _attempt(problem, scaled, d, region, options):
@@ -223,7 +206,7 @@ def _polytope(problem, G, region, options, report):
     return level
 
 
-def _one_copy(problem, region, options, convex, bound, floor):
+def one_copy(problem, region, options, convex, bound, floor):
     """The one-copy design ``(G, report)`` of a problem of copies, a
     start for them (without the limits where no one-copy design meets
     them)."""
@@ -409,12 +392,36 @@ def synthesise(problem, region, options, convex=None, check=None,
             except (VerificationError, SolverError):
                 continue
             starts.append((f'{name} design', Gb))
+    if problem.copies > 1:
+        if single is None:
+            single = one_copy(problem, region, options, convex, bound,
+                              floor)
+        G1, rep1 = single
+        stats.update(luenberger_hinf=rep1.hinf)
+        one = criteria.value(rep1)
+        if floor is not None and one <= floor + _equal(floor, problem):
+            # headroom: the one-copy design is at the level no observer
+            # of any structure can beat; copies cannot improve on it
+            stats['headroom'] = (
+                f"the one-copy design reaches the unconstrained filter "
+                f"level {floor:.6g} of the {what} ({one:.6g}): no "
+                "observer of any structure or order can do better, so the "
+                "copies were not refined")
+            try:
+                report = check(problem.embed(G1), method=f'{convex.method}'
+                               '+headroom', stage='luenberger',
+                               convex=convex, stats=stats)
+            except VerificationError:
+                del stats['headroom']
+            else:
+                return problem.embed(G1), report
     tolerance = criteria.gain_tolerance
     refine_options = options.refine_options
     repair = False
     if tolerance:
-        done, extra, repair = _tolerant(problem, region, options, convex,
-                                        bound, floor, check)
+        done, extra, repair, kept = tolerant(
+            synthesise, problem, region, options, convex, bound, floor,
+            check, single)
         if done is not None:
             return done
         starts += extra
@@ -438,35 +445,14 @@ def synthesise(problem, region, options, convex=None, check=None,
             pass
         else:
             starts.append((f'max_gain={looser[0]:.3g}', Gl))
-    grown = []
+    grown = kept if tolerance else []
     if problem.copies > 1:
-        if single is None:
-            single = _one_copy(problem, region, options, convex, bound,
-                               floor)
         G1, rep1 = single
         if repair:
             # a candidate, not a start: copies are never worse than one
             grown.append((problem.embed(G1), 'luenberger'))
         else:
             starts.append(('luenberger', problem.embed(G1)))
-        stats.update(luenberger_hinf=rep1.hinf)
-        one = criteria.value(rep1)
-        if floor is not None and one <= floor + _equal(floor, problem):
-            # headroom: the one-copy design is at the level no observer
-            # of any structure can beat; copies cannot improve on it
-            stats['headroom'] = (
-                f"the one-copy design reaches the unconstrained filter "
-                f"level {floor:.6g} of the {what} ({one:.6g}): no "
-                "observer of any structure or order can do better, so the "
-                "copies were not refined")
-            try:
-                report = check(problem.embed(G1), method=f'{convex.method}'
-                               '+headroom', stage='luenberger',
-                               convex=convex, stats=stats)
-            except VerificationError:
-                del stats['headroom']
-            else:
-                return problem.embed(G1), report
         if problem.copies > 2 and np.allclose(problem.weights,
                                               1 / problem.copies):
             # N copies can run any design of N − 1 (the last tracking
@@ -549,52 +535,6 @@ def synthesise(problem, region, options, convex=None, check=None,
 
 
 _no_floor = object()
-#: a gain tolerance below this starts from the design of this tolerance
-TOLERANCE_TOP = 1e-2
-#: the label of the nominal optimum among the starts of a gain tolerance
-NOMINAL = 'nominal optimum'
-
-
-def _tolerant(problem, region, options, convex, bound, floor, check):
-    """The nominal-first road of a gain tolerance: ``(done, starts,
-    repair)``.
-
-    The nominal optimum (``gain_tolerance=None``) is designed first; when
-    it keeps its region under the tolerance it is the design (``done`` is
-    ``(G, report)``: most single observers on the public plants).  Else
-    it is a start, and below :data:`TOLERANCE_TOP` so is the design of
-    that tolerance, which meets every smaller one: ``repair`` says that
-    refinement should start from these two alone.
-    """
-    try:
-        Gn, nominal = synthesise(problem, region, options.replace(
-            gain_tolerance=None), convex=convex, bound=bound, floor=floor)
-    except (VerificationError, SolverError):
-        return None, [], False
-    try:
-        report = check(Gn, method=nominal.method, stage=nominal.stage,
-                       convex=convex, stats=nominal.stats,
-                       gamma_bound=nominal.gamma_bound)
-    except VerificationError:
-        pass
-    else:
-        limits = report.stats.get('limits')
-        report.stats = dict(nominal.stats, limits=limits,
-                            tolerance='the nominal optimum keeps its region '
-                            'under the gain tolerance')
-        return (Gn, report), [], False
-    starts = [(NOMINAL, Gn)]
-    if options.criteria.gain_tolerance >= TOLERANCE_TOP:
-        return None, starts, False
-    try:
-        Gt, _ = synthesise(problem, region, options.replace(
-            gain_tolerance=TOLERANCE_TOP), convex=convex, bound=bound,
-            floor=floor)
-    except (VerificationError, SolverError):
-        return None, starts, False
-    return None, [(f'gain_tolerance={TOLERANCE_TOP:g}', Gt)] + starts, True
-
-
 #: a gain bound far below the convex design's gain starts from the design
 #: within this many times the bound
 GAIN_LADDER = 1.5
