@@ -21,10 +21,14 @@ Examples
 >>> from controlext.synthesis import ObserverProblem
 >>> from controlext.synthesis.conditioning import gain_bound, EXTREME
 >>> prob = ObserverProblem(A=[[0.0, 1.0], [0.0, 0.0]], C=[[2.0, 0.0]])
->>> kappa, weights = gain_bound(prob, np.ones(2), 'auto')
->>> bool(kappa == EXTREME * 1.0 / 2.0), weights.tolist()
+>>> bound = gain_bound(prob, np.ones(2), 'auto')
+>>> bool(bound.level == EXTREME * 1.0 / 2.0), bound.weights.tolist()
 (True, [1.0, 1.0])
+>>> bound.holds(np.array([[3e5], [4e5]]))      # ‖G‖₂ = 5e5 = κ
+True
 """
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -32,8 +36,8 @@ from .._checks import sample_step
 from .._warn import warn
 from ..exceptions import GainWarning
 
-__all__ = ['EXTREME', 'FRAGILE', 'NEGLIGIBLE', 'SLOW', 'FAST', 'gain_bound',
-           'gain_norm', 'meets_bound', 'warn_if_held', 'warn_if_extreme',
+__all__ = ['EXTREME', 'FRAGILE', 'NEGLIGIBLE', 'SLOW', 'FAST', 'GainBound',
+           'gain_bound', 'warn_if_held', 'warn_if_extreme',
            'warn_if_degenerate', 'warn_if_fragile']
 
 #: how far beyond the plant's scale a gain or an error pole may go
@@ -61,29 +65,68 @@ _ADVICE = ("A looser region, or max_gain=, gives a better conditioned "
            "design")
 
 
+@dataclass(frozen=True)
+class GainBound:
+    """The constraint ``‖diag(weights) G‖₂ <= level`` on a gain ``G``.
+
+    Attributes
+    ----------
+    level : float
+        The bound ``κ``.
+    weights : ndarray
+        One weight per gain row (they undo a state scaling).
+    """
+    level: float
+    weights: np.ndarray
+
+    @classmethod
+    def of(cls, bound):
+        """``bound`` as a :class:`GainBound`: None stays None, a pair
+        ``(κ, weights)`` is read as one."""
+        if bound is None or isinstance(bound, cls):
+            return bound
+        level, weights = bound
+        return cls(float(level), np.asarray(weights, dtype=float))
+
+    def norm(self, G):
+        """``‖diag(weights) G‖₂``."""
+        return float(np.linalg.norm(self.weights[:, None] * G, 2))
+
+    def meets(self, norm):
+        """Does a gain of bounded norm ``norm`` meet the bound (to the
+        verification's rounding)?"""
+        return bool(norm <= self.level * (1 + 1e-6))
+
+    def holds(self, G):
+        """Does ``G`` meet the bound?"""
+        return self.meets(self.norm(G))
+
+    def rows(self, count):
+        """The bound on the gain of the first ``count`` rows (a problem
+        of fewer copies)."""
+        return GainBound(self.level, self.weights[:count])
+
+    def loosened(self, factor):
+        """The bound ``factor`` times looser."""
+        return GainBound(factor * self.level, self.weights)
+
+    def key(self):
+        """A hashable key of the bound (the memo's)."""
+        return float(self.level), np.asarray(self.weights).tobytes()
+
+
 def gain_bound(scaled, d, max_gain, region=None):
-    """``(κ, weights)`` of the constraint ``‖diag(weights) G‖₂ <= κ`` on
-    gains ``G`` of the scaled problem (None without a bound): a number
-    bounds the gain in the plant's units (the weights undo the scaling
-    ``d``), ``'auto'`` at ``EXTREME`` times the plant's scale on the
-    unit-free realisation (see :func:`warn_if_extreme`)."""
+    """The :class:`GainBound` on gains of the scaled problem (None
+    without a bound): a number bounds the gain in the plant's units (the
+    weights undo the scaling ``d``), ``'auto'`` at ``EXTREME`` times the
+    plant's scale on the unit-free realisation (see
+    :func:`warn_if_extreme`)."""
     if max_gain is None:
         return None
     if max_gain == 'auto':
-        return (EXTREME * _scales(scaled, region)[1],
-                np.ones(scaled.gain_shape[0]))
-    return float(max_gain), np.kron(np.ones(scaled.copies), d)
-
-
-def gain_norm(bound, G):
-    """``‖diag(weights) G‖₂`` of a bound ``(κ, weights)``."""
-    return float(np.linalg.norm(bound[1][:, None] * G, 2))
-
-
-def meets_bound(bound, norm):
-    """Does a gain of bounded norm ``norm`` meet the bound ``(κ,
-    weights)`` (to the verification's rounding)?"""
-    return norm <= bound[0] * (1 + 1e-6)
+        return GainBound(EXTREME * _scales(scaled, region)[1],
+                         np.ones(scaled.gain_shape[0]))
+    return GainBound(float(max_gain), np.kron(np.ones(scaled.copies), d))
 
 
 def _scales(problem, region):
@@ -101,10 +144,11 @@ def warn_if_held(bound, G, report, max_gain):
     smaller γ exists, with a larger gain."""
     if bound is None:
         return
-    norm = gain_norm(bound, G)
-    report.stats['max_gain'] = dict(bound=bound[0], norm=norm)
-    if max_gain == 'auto' and 0.999 * bound[0] <= norm and \
-            meets_bound(bound, norm):
+    bound = GainBound.of(bound)
+    norm = bound.norm(G)
+    report.stats['max_gain'] = dict(bound=bound.level, norm=norm)
+    if max_gain == 'auto' and 0.999 * bound.level <= norm and \
+            bound.meets(norm):
         # (above the bound only with refine=False, which said so)
         warn(f"the gain is held at the default bound max_gain='auto' "
              f"(1e6 times the plant's scale; γ = {report.hinf:.6g}): a "

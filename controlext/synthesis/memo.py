@@ -18,6 +18,7 @@ import functools
 import numpy as np
 
 from ..exceptions import SolverError, VerificationError
+from .conditioning import GainBound
 
 __all__ = ['one_design', 'memoised']
 
@@ -43,8 +44,7 @@ def key_of(problem, region, bound, floor):
                         member.Cze)] + [np.asarray(problem.weights,
                                                    dtype=float)]
     return (problem.copies, problem.dt, repr(region), floor,
-            None if bound is None else (float(bound[0]),
-                                        np.asarray(bound[1]).tobytes()),
+            None if bound is None else bound.key(),
             tuple(np.ascontiguousarray(M).tobytes() for M in arrays))
 
 
@@ -55,6 +55,7 @@ def memoised(synthesise):
     @functools.wraps(synthesise)
     def run(problem, region, options, convex=None, check=None, bound=None,
             floor=None, single=None):
+        bound = GainBound.of(bound)
         args = (problem, region, options, convex, check, bound, floor,
                 single)
         results = _RESULTS.get()

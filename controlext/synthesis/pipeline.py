@@ -43,7 +43,7 @@ from .convex import convex_stage
 from .refine import refine_gain
 from .regions import region_for
 from .limits import limits_of
-from .conditioning import (gain_bound, gain_norm, meets_bound,
+from .conditioning import (gain_bound,
                            warn_if_degenerate, warn_if_extreme,
                            warn_if_fragile, warn_if_held)
 from .memo import memoised, one_design
@@ -231,9 +231,10 @@ def one_copy(problem, region, options, convex, bound, floor):
 
 
 def _first_rows(bound, rows):
-    """The gain bound ``(κ, weights)`` of the problem whose gain is the
-    first ``rows`` rows (fewer copies; None stays None)."""
-    return None if bound is None else (bound[0], bound[1][:rows])
+    """The :class:`~controlext.synthesis.conditioning.GainBound` of the
+    problem whose gain is the first ``rows`` rows (fewer copies; None
+    stays None)."""
+    return None if bound is None else bound.rows(rows)
 
 
 def check_problem(problem, region, what='plant'):
@@ -287,8 +288,10 @@ def synthesise(problem, region, options, convex=None, check=None,
         ``check(G, **facts) -> DesignReport`` verifies a candidate gain
         (default :func:`verify_design` on ``problem``); a candidate it
         refuses is dropped, so the design returned is one it verified.
-    bound : (float, ndarray), optional
-        The gain bound ``(κ, weights)`` of :func:`gain_bound`: refinement
+    bound : GainBound, optional
+        The gain bound of
+        :func:`~controlext.synthesis.conditioning.gain_bound` (a pair
+        ``(κ, weights)`` is read as one): refinement
         holds it, and a candidate above it is refused.
     floor : float, optional
         The problem's unconstrained filter level
@@ -315,12 +318,12 @@ def synthesise(problem, region, options, convex=None, check=None,
 
     def check(G, **info):
         if bound is not None:
-            norm = gain_norm(bound, G)
-            if not meets_bound(bound, norm):
+            norm = bound.norm(G)
+            if not bound.meets(norm):
                 over_bound.append(norm)
                 raise VerificationError(
                     f"the {info.get('stage', 'convex')} design's gain norm "
-                    f"{norm:.6g} exceeds max_gain = {bound[0]:.6g}")
+                    f"{norm:.6g} exceeds max_gain = {bound.level:.6g}")
         return verify(G, **info)
 
     if convex is None:
@@ -339,8 +342,7 @@ def synthesise(problem, region, options, convex=None, check=None,
                     "only refinement holds settling_time= and "
                     "gain_tolerance=") from None
             best = None
-    within = bound is None or meets_bound(bound,
-                                          gain_norm(bound, convex.G))
+    within = bound is None or bound.holds(convex.G)
     # a design without a certified level (the placement fallback) is
     # refined too: it may be the zero gain, at a huge γ
     if best is not None and not (options.refine and (
@@ -349,7 +351,7 @@ def synthesise(problem, region, options, convex=None, check=None,
         if not within and bound is not None:
             # the convex stage does not hold the bound; refinement does
             warn(f"the convex design's gain norm exceeds the bound "
-                 f"{bound[0]:.6g} (refine=False returns it as it is)",
+                 f"{bound.level:.6g} (refine=False returns it as it is)",
                  GainWarning)
             return convex.G, verify(convex.G, convex=convex,
                                     gamma_bound=convex.gamma_bound)
@@ -432,19 +434,19 @@ def synthesise(problem, region, options, convex=None, check=None,
             # (benchmarks/robust_decay.py measures what it costs)
             refine_options = replace(refine_options, random_starts=0)
     if not repair and bound is not None and not within and \
-            gain_norm(bound, convex.G) > GAIN_LADDER * bound[0]:
+            bound.norm(convex.G) > GAIN_LADDER * bound.level:
         # far above the bound, the convex design is a poor start for it:
         # the design within GAIN_LADDER times the bound is a nearer one
         # (a geometric ladder: the square root of the ratio per step)
-        ratio = gain_norm(bound, convex.G) / bound[0]
-        looser = (max(GAIN_LADDER, np.sqrt(ratio)) * bound[0], bound[1])
+        looser = bound.loosened(max(GAIN_LADDER, np.sqrt(
+            bound.norm(convex.G) / bound.level)))
         try:
             Gl, _ = synthesise(problem, region, options, convex=convex,
                                bound=looser, floor=floor)
         except (VerificationError, SolverError):
             pass
         else:
-            starts.append((f'max_gain={looser[0]:.3g}', Gl))
+            starts.append((f'max_gain={looser.level:.3g}', Gl))
     grown = kept if tolerance else []
     if problem.copies > 1:
         G1, rep1 = single
@@ -477,8 +479,9 @@ def synthesise(problem, region, options, convex=None, check=None,
         res = refine_gain(problem, region, starts[1:] if repair else starts,
                           options=refine_options, seed=options.seed,
                           executor=options.executor,
-                          gain_bound=None if bound is None else bound[0],
-                          gain_weights=None if bound is None else bound[1],
+                          gain_bound=None if bound is None else bound.level,
+                          gain_weights=None if bound is None else
+                          bound.weights,
                           floor=floor, criteria=criteria)
     except VerificationError as exc:
         # the convex design is verified already: keep it, say why

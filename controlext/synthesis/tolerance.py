@@ -152,8 +152,9 @@ def _repaired(problem, region, options, convex, bound, floor, check, Gn,
                           options=replace(options.refine_options,
                                           random_starts=0),
                           seed=options.seed, executor=options.executor,
-                          gain_bound=None if bound is None else bound[0],
-                          gain_weights=None if bound is None else bound[1],
+                          gain_bound=None if bound is None else bound.level,
+                          gain_weights=None if bound is None else
+                          bound.weights,
                           floor=floor, criteria=criteria)
     except VerificationError:
         return None
