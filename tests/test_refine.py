@@ -2,6 +2,8 @@
 refinement, a penalty that settles outside the region still yields a gain
 inside it, and the inner loop runs BLAS on one thread."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -179,18 +181,18 @@ def _scripted_polish(monkeypatch, scripts, restarts, floor=None,
 
     def step(args):
         obj, run, maxiter, restarts, escalations = args[:5]
-        run = dict(run, points=1)
-        if run['stop']:
-            run['result'] = (run['value'], run['x'])
+        run = dataclasses.replace(run, points=1)
+        if run.stop:
+            run.result = (run.value, run.x)
             return run
-        name = run['x']
+        name = run.x
         values = scripts[name]
-        k = run['restart']
+        k = run.restart
         segments.append(name)
         value = values[k]
-        run.update(value=value, restart=k + 1, fx=value)
+        run.value, run.restart, run.fx = value, k + 1, value
         if k + 1 == len(values):
-            run['result'] = (value, name)
+            run.result = (value, name)
         return run
 
     monkeypatch.setattr(refine, '_polish_step', step)
@@ -268,17 +270,16 @@ def test_a_segment_ends_where_it_meets_the_floor():
     the floor level (``enough``), not at the end of its budget; the norm
     and decay of the point it stops at are recomputed independently."""
     prob, obj, G0 = _paper_pair()
-    run = dict(x=G0.ravel(), best=(np.inf, None), rho=None, escalation=0,
-               restart=0, fx=None, value=np.inf, stop=False, result=None)
+    run = refine.PolishRun(x=G0.ravel(), best=(np.inf, None))
     free = refine._polish_step((obj, run, 600, 0, 0, 1e-7, None))
     # measurement noise only: γ -> 0 as the gain grows; the free segment
     # passes 1e-2 within its first quarter and goes on far below it
-    assert free['best'][0] < 1e-6
+    assert free.best[0] < 1e-6
     obj.reset_best()
     stopped = refine._polish_step((obj, run, 600, 0, 0, 1e-7, 1e-2))
-    gamma, G = stopped['best']
+    gamma, G = stopped.best
     assert 1e-6 < gamma <= 1e-2
-    assert stopped['points'] < free['points'] / 2
+    assert stopped.points < free.points / 2
     _check_inside(prob, G, gamma)
 
 
@@ -286,14 +287,18 @@ def test_race_reach_of_shrinking_gains():
     """A run's reach: its last gain for every segment left, or where the
     gains shrink the sum of their geometric continuation (summed here
     term by term), whichever is smaller."""
-    run = dict(gain=0.004, previous=0.005)
+    def run_of(gain, previous):
+        return refine.PolishRun(x=None, best=None, gain=gain,
+                                previous=previous)
+
+    run = run_of(0.004, 0.005)
     series = sum(0.004 * 0.8 ** k for k in range(1, 2000))
     assert refine._reach(run, 10) == pytest.approx(series, rel=1e-12)
     assert refine._reach(run, 2) == pytest.approx(0.008)     # linear
     # growing or first gains: the linear reach
-    assert refine._reach(dict(gain=0.004, previous=0.002), 10) == \
+    assert refine._reach(run_of(0.004, 0.002), 10) == \
         pytest.approx(0.04)
-    assert refine._reach(dict(gain=0.004, previous=np.inf), 10) == \
+    assert refine._reach(run_of(0.004, np.inf), 10) == \
         pytest.approx(0.04)
 
 
@@ -340,7 +345,7 @@ def test_the_run_that_meets_the_floor_ends_its_round(monkeypatch):
     step = refine._polish_step
 
     def counted(args):
-        calls.append(args[1]['stop'])
+        calls.append(args[1].stop)
         return step(args)
 
     monkeypatch.setattr(refine, '_polish_step', counted)

@@ -34,7 +34,7 @@ True
 """
 
 import contextlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import functools
 import time
 
@@ -90,6 +90,51 @@ class RefineResult:
     time: float = 0.0
     phases: dict = field(default_factory=dict)
     stationary: Stationarity | None = None
+
+
+@dataclass
+class PolishRun:
+    """One polishing run of :func:`_polish`, carried from one segment to
+    the next (and to a worker and back).
+
+    Attributes
+    ----------
+    x : ndarray
+        The current point (the gain, flattened).
+    best : (float, ndarray or None)
+        The best point inside the constraints met so far, and its norm.
+    rho : float or None
+        The penalty weight, once raised (None: the objective's own).
+    escalation : int
+        Times the weight was raised.
+    restart : int
+        Segments run since the last escalation.
+    fx : float or None
+        The objective at ``x`` (None: to be evaluated, the weight having
+        changed).
+    value : float
+        The objective at the end of the last segment.
+    gain, previous : float
+        The relative decrease of the last segment, and of the one before.
+    stop : bool
+        Is the run over (it is then finished on its next call)?
+    result : (float, ndarray or None) or None
+        ``(γ, G)`` of the finished run.
+    points : int
+        Points evaluated by the last call.
+    """
+    x: np.ndarray
+    best: tuple
+    rho: float | None = None
+    escalation: int = 0
+    restart: int = 0
+    fx: float | None = None
+    value: float = np.inf
+    gain: float = np.inf
+    previous: float = np.inf
+    stop: bool = False
+    result: tuple | None = None
+    points: int = 0
 
 
 def _make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7)):
@@ -214,51 +259,53 @@ def _polish_step(args):
     improves, up to ``1 + restarts`` segments of ``maxiter`` steps; a run
     that then ends outside the region raises the penalty weight tenfold
     (the penalty is exact only above the constraint's multiplier) and
-    goes on, up to ``escalations`` times.  ``run`` (a dict) carries the
-    point, the weight and the best point inside met so far from one call
-    to the next; a run that is over (or told to ``stop``) is pushed
-    strictly inside the region and gets its ``result``.  A segment ends
+    goes on, up to ``escalations`` times.  ``run`` (a
+    :class:`PolishRun`) carries the point, the weight and the best point
+    inside met so far from one call to the next; a run that is over (or
+    told to ``stop``) is pushed strictly inside the region and gets its
+    ``result``.  A segment ends
     early at a point inside the constraints whose norm is ``enough`` or
     less (None: no such level).
     """
     obj, run, maxiter, restarts, escalations, tol, enough = args
-    run = dict(run)
+    run = replace(run)
     before = obj.count
     base = obj.rho
-    obj.best = run['best']
-    obj.rho = run['rho'] if run['rho'] is not None else base
+    obj.best = run.best
+    obj.rho = run.rho if run.rho is not None else base
     try:
-        if not run['stop']:
-            x = run['x']
-            if run['fx'] is None:               # an escalation starts
-                run['fx'] = obj(x)[0]
-            fx = run['fx']
+        if not run.stop:
+            x = run.x
+            if run.fx is None:                  # an escalation starts
+                run.fx = obj(x)[0]
+            fx = run.fx
             # a point inside at the floor ends the segment: no gain of
             # any structure does better
             x, fnew = bfgs(obj, x, maxiter, stall=30, stall_tol=tol / 100,
                            stop=None if enough is None else
                            lambda x, fx: obj.best[0] <= enough)
-            run.update(x=x, value=fnew, fx=fnew, restart=run['restart'] + 1)
+            run.x, run.value, run.fx = x, fnew, fnew
+            run.restart += 1
             inside = obj.margin(x.reshape(obj.shape))[0] <= 0
-            if inside and run['restart'] <= restarts and \
-                    stationarity(obj, x, run['restart']).passed:
+            if inside and run.restart <= restarts and \
+                    stationarity(obj, x, run.restart).passed:
                 # a stationary point inside the constraints: more steps
                 # would not move it
-                run['stop'] = True
-            elif not fnew < fx - tol * abs(fx) or run['restart'] > restarts:
+                run.stop = True
+            elif not fnew < fx - tol * abs(fx) or run.restart > restarts:
                 if not obj.constrained or \
-                        run['escalation'] >= escalations or inside:
-                    run['stop'] = True
+                        run.escalation >= escalations or inside:
+                    run.stop = True
                 else:
                     obj.rho *= 10
-                    run.update(rho=obj.rho, escalation=run['escalation'] + 1,
-                               restart=0, fx=None)
-        if run['stop']:
-            run['result'] = _finish(obj, run['x'])
+                    run.rho, run.escalation = obj.rho, run.escalation + 1
+                    run.restart, run.fx = 0, None
+        if run.stop:
+            run.result = _finish(obj, run.x)
     finally:
         obj.rho = base
-        run['best'] = obj.best
-        run['points'] = obj.count - before
+        run.best = obj.best
+        run.points = obj.count - before
     return run
 
 
@@ -282,62 +329,59 @@ def _polish(executor, obj, screened, maxiter, restarts, opts, floor=None):
     enough = None if floor is None else floor * (1 + opts.floor_tol)
     at_floor = enough is not None and \
         min(best[0] for _, best in screened) <= enough
-    runs = [dict(x=x, best=best, rho=None, escalation=0, restart=0,
-                 fx=None, value=np.inf, gain=np.inf, previous=np.inf,
-                 stop=at_floor,
-                 result=None) for x, best in screened]
+    runs = [PolishRun(x=x, best=best, stop=at_floor) for x, best in screened]
     points = 0
     while True:
         # the leader goes first: the run that meets the floor in a round
         # ends it, the later runs' segments being dropped (never computed
         # without an executor)
         going = sorted((k for k, run in enumerate(runs)
-                        if run['result'] is None),
-                       key=lambda k: runs[k]['value'])
+                        if run.result is None),
+                       key=lambda k: runs[k].value)
         if not going:
             break
         for k, run in zip(going, _map(executor, _polish_step, [
                 (obj, runs[k], maxiter, restarts, opts.escalations,
                  opts.polish_tol, enough)
                 for k in going])):
-            before, segment = runs[k]['value'], not runs[k]['stop']
-            run['previous'] = run['gain']
-            run['gain'] = (before - run['value']) / abs(run['value']) \
+            before, segment = runs[k].value, not runs[k].stop
+            run.previous = run.gain
+            run.gain = (before - run.value) / abs(run.value) \
                 if np.isfinite(before) else np.inf
             runs[k] = run
-            points += run['points']
-            if segment and enough is not None and run['best'][0] <= enough:
+            points += run.points
+            if segment and enough is not None and run.best[0] <= enough:
                 break
-        lead = min(run['value'] for run in runs)
-        inside = min(run['best'][0] for run in runs)
+        lead = min(run.value for run in runs)
+        inside = min(run.best[0] for run in runs)
         for run in runs:
-            if run['result'] is not None or run['stop']:
+            if run.result is not None or run.stop:
                 continue
-            behind = run['value'] / lead - 1 if lead > 0 else 0.0
-            left = restarts + 1 - run['restart']
-            if run['gain'] < opts.race_progress and \
-                    run['value'] > opts.race_keep * lead:
-                run['stop'] = True
-            elif behind > 0 and run['escalation'] == 0 and \
+            behind = run.value / lead - 1 if lead > 0 else 0.0
+            left = restarts + 1 - run.restart
+            if run.gain < opts.race_progress and \
+                    run.value > opts.race_keep * lead:
+                run.stop = True
+            elif behind > 0 and run.escalation == 0 and \
                     _reach(run, left) * opts.race_reach < \
                     behind + opts.race_tie:
                 # at the pace of its last segments it cannot get ahead of
                 # the leader (by more than a tie) within its budget (a run
                 # whose penalty weight was raised is not judged so: its
                 # values jumped with the weight)
-                run['stop'] = True
+                run.stop = True
             elif enough is not None and inside <= enough:
                 # a point inside the region at the floor: no gain of any
                 # structure does better
-                run['stop'] = True
-    return [run['result'] for run in runs], points
+                run.stop = True
+    return [run.result for run in runs], points
 
 
 def _reach(run, left):
     """How much further a run may get in ``left`` segments: its last
     segment's gain each time, or, where its gains shrink, their geometric
     series."""
-    gain, previous = run['gain'], run['previous']
+    gain, previous = run.gain, run.previous
     reach = gain * left
     if 0 < gain < previous < np.inf:
         ratio = gain / previous
