@@ -382,18 +382,7 @@ def synthesise(problem, region, options, convex=None, check=None,
             "not refined"))
         return convex.G, best
     if best is None and criteria.bounds:
-        # the convex stage gave no design within the bounds (one Lyapunov
-        # matrix for both norms and the region is conservative): the
-        # design minimising a bounded norm alone meets its bound whenever
-        # any design does, and is a start inside it
-        for name, _ in criteria.bounds:
-            plain = options.replace(objective=name, max_hinf=None,
-                                    max_h2=None)
-            try:
-                Gb, _ = synthesise(problem, region, plain, bound=bound)
-            except (VerificationError, SolverError):
-                continue
-            starts.append((f'{name} design', Gb))
+        starts += _bounded_starts(problem, region, options, bound)
     if problem.copies > 1:
         if single is None:
             single = one_copy(problem, region, options, convex, bound,
@@ -433,20 +422,9 @@ def synthesise(problem, region, options, convex=None, check=None,
             # second has split the nominal optimum's pole clusters
             # (benchmarks/robust_decay.py measures what it costs)
             refine_options = replace(refine_options, random_starts=0)
-    if not repair and bound is not None and not within and \
-            bound.norm(convex.G) > GAIN_LADDER * bound.level:
-        # far above the bound, the convex design is a poor start for it:
-        # the design within GAIN_LADDER times the bound is a nearer one
-        # (a geometric ladder: the square root of the ratio per step)
-        looser = bound.loosened(max(GAIN_LADDER, np.sqrt(
-            bound.norm(convex.G) / bound.level)))
-        try:
-            Gl, _ = synthesise(problem, region, options, convex=convex,
-                               bound=looser, floor=floor)
-        except (VerificationError, SolverError):
-            pass
-        else:
-            starts.append((f'max_gain={looser.level:.3g}', Gl))
+    if not repair and bound is not None and not within:
+        starts += _looser_start(problem, region, options, convex, bound,
+                                floor)
     grown = kept if tolerance else []
     if problem.copies > 1:
         G1, rep1 = single
@@ -457,24 +435,8 @@ def synthesise(problem, region, options, convex=None, check=None,
             starts.append(('luenberger', problem.embed(G1)))
         if problem.copies > 2 and np.allclose(problem.weights,
                                               1 / problem.copies):
-            # N copies can run any design of N − 1 (the last tracking
-            # their average): the best of N − 1 is a candidate, so that
-            # more copies are never worse (quadruple tank, N = 3: 1.614
-            # against 1.595 for N = 2 without it).  Not a start: it leads
-            # the polishing race early and ends in a worse basin (scalar
-            # plant N = 6 up to 1.56x the best filter, second order N = 3
-            # up to 4.6x)
-            fewer = problem.replace(copies=problem.copies - 1)
-            try:
-                Gf, _ = synthesise(fewer, region, options,
-                                   bound=_first_rows(
-                                       bound, fewer.copies * problem.n),
-                                   floor=floor, single=single)
-            except (VerificationError, SolverError):
-                pass
-            else:
-                grown.append((problem.grow(Gf, G1),
-                              f'{fewer.copies} copies'))
+            grown += _fewer_copies(problem, region, options, bound, floor,
+                                   single)
     try:
         res = refine_gain(problem, region, starts[1:] if repair else starts,
                           options=refine_options, seed=options.seed,
@@ -488,14 +450,71 @@ def synthesise(problem, region, options, convex=None, check=None,
         stats['refine'] = dict(failed=str(exc))
         candidates = []
     else:
-        stats['refine'] = dict(start=res.start, starts=res.starts,
-                               evaluations=res.evaluations, time=res.time,
-                               phases=res.phases, stationary=res.stationary)
+        stats['refine'] = res.summary()
         candidates = [(res.G, 'refined')]
     # (the nominal optimum is a start only when it misses the tolerance)
     candidates += [(G, label) for label, G in starts[1:]
                    if label != NOMINAL] + grown
     method = f'{convex.method}+refine'
+    verified = _judge(check, convex, candidates, method, stats)
+    if not verified:
+        raise _refusal(stats, convex, bound, over_bound)
+    return _rank(verified, criteria, problem, method, stats)
+
+
+def _bounded_starts(problem, region, options, bound):
+    """Starts inside the norm bounds where the convex stage gave none
+    (one Lyapunov matrix for both norms and the region is
+    conservative): the design minimising a bounded norm alone meets its
+    bound whenever any design does."""
+    starts = []
+    for name, _ in options.criteria.bounds:
+        plain = options.replace(objective=name, max_hinf=None, max_h2=None)
+        try:
+            Gb, _ = synthesise(problem, region, plain, bound=bound)
+        except (VerificationError, SolverError):
+            continue
+        starts.append((f'{name} design', Gb))
+    return starts
+
+
+def _looser_start(problem, region, options, convex, bound, floor):
+    """Far above the gain bound, the convex design is a poor start for
+    it: the design within :data:`GAIN_LADDER` times the bound is a nearer
+    one (a geometric ladder: the square root of the ratio per step)."""
+    ratio = bound.norm(convex.G) / bound.level
+    if ratio <= GAIN_LADDER:
+        return []
+    looser = bound.loosened(max(GAIN_LADDER, np.sqrt(ratio)))
+    try:
+        Gl, _ = synthesise(problem, region, options, convex=convex,
+                           bound=looser, floor=floor)
+    except (VerificationError, SolverError):
+        return []
+    return [(f'max_gain={looser.level:.3g}', Gl)]
+
+
+def _fewer_copies(problem, region, options, bound, floor, single):
+    """``[(G, label)]``: the best design of ``N − 1`` copies grown to
+    ``N`` (the last tracking their average), a candidate so that more
+    copies are never worse (quadruple tank, N = 3: 1.614 against 1.595
+    for N = 2 without it).  Not a start: it leads the polishing race
+    early and ends in a worse basin (scalar plant N = 6 up to 1.56x the
+    best filter, second order N = 3 up to 4.6x)."""
+    fewer = problem.replace(copies=problem.copies - 1)
+    try:
+        Gf, _ = synthesise(fewer, region, options,
+                           bound=_first_rows(bound, fewer.copies * problem.n),
+                           floor=floor, single=single)
+    except (VerificationError, SolverError):
+        return []
+    return [(problem.grow(Gf, single[0]), f'{fewer.copies} copies')]
+
+
+def _judge(check, convex, candidates, method, stats):
+    """``[(report, G)]``: the convex design and the ``candidates``
+    ``[(G, stage)]`` that ``check`` verifies; the stages it refuses, and
+    why, go to ``stats['refused']``."""
     verified, refused = [], []
     for Gc, stage, facts in [(convex.G, convex.stage, dict(
             convex=convex, gamma_bound=convex.gamma_bound))] + [
@@ -507,24 +526,33 @@ def synthesise(problem, region, options, convex=None, check=None,
             refused.append((stage, str(exc)))
     if refused:
         stats['refused'] = refused
-    if not verified:
-        steps = [f"{stage}: {why}" for stage, why in refused]
-        if 'failed' in stats.get('refine', {}):
-            steps.append(f"refinement: {stats['refine']['failed']}")
-        steps += [f"{name}: {why}" for name, why in
-                  convex.stats.get('fallback', [])]
-        refusal = VerificationError(
-            "no candidate design verified (" + "; ".join(steps) + "); try "
-            "a looser region or a larger margin=" +
-            ("" if bound is None else " or max_gain="))
-        # did the gain bound refuse a candidate, or hold refinement back
-        # (a retry without it may find a design)?
-        refusal.bounded = bound is not None and (
-            bool(over_bound) or 'failed' in stats.get('refine', {}))
-        raise refusal
-    # the smallest true norm wins; designs equal to within a tolerance are
-    # ranked by gain norm (when γ* is not attained, or is 0, the last bits
-    # of γ cost unbounded gains)
+    return verified
+
+
+def _refusal(stats, convex, bound, over_bound):
+    """The error when no candidate verified, naming every step that
+    failed; its ``bounded`` says whether the gain bound refused a
+    candidate or held refinement back (a retry without it may find a
+    design)."""
+    steps = [f"{stage}: {why}" for stage, why in stats.get('refused', [])]
+    if 'failed' in stats.get('refine', {}):
+        steps.append(f"refinement: {stats['refine']['failed']}")
+    steps += [f"{name}: {why}" for name, why in
+              convex.stats.get('fallback', [])]
+    refusal = VerificationError(
+        "no candidate design verified (" + "; ".join(steps) + "); try "
+        "a looser region or a larger margin=" +
+        ("" if bound is None else " or max_gain="))
+    refusal.bounded = bound is not None and (
+        bool(over_bound) or 'failed' in stats.get('refine', {}))
+    return refusal
+
+
+def _rank(verified, criteria, problem, method, stats):
+    """``(G, report)`` of the verified design of smallest true norm;
+    designs equal to within :func:`_equal` are ranked by gain norm (when
+    γ* is not attained, or is 0, the last bits of γ cost unbounded
+    gains).  Its report gets ``method`` and ``stats``."""
     lowest = min(criteria.value(rep) for rep, _ in verified)
     best, G = min(((rep, Gc) for rep, Gc in verified
                    if criteria.value(rep) <= lowest + _equal(lowest,

@@ -91,6 +91,13 @@ class RefineResult:
     phases: dict = field(default_factory=dict)
     stationary: Stationarity | None = None
 
+    def summary(self):
+        """What a design report keeps of the refinement: everything but
+        the gain and its norm (``report.stats['refine']``)."""
+        return dict(start=self.start, starts=self.starts,
+                    evaluations=self.evaluations, time=self.time,
+                    phases=self.phases, stationary=self.stationary)
+
 
 @dataclass
 class PolishRun:

@@ -158,10 +158,8 @@ def _repaired(problem, region, options, convex, bound, floor, check, Gn,
                           floor=floor, criteria=criteria)
     except VerificationError:
         return None
-    stats = dict(nominal.stats, refine=dict(
-        start=res.start, starts=res.starts, evaluations=res.evaluations,
-        time=res.time, phases=res.phases, stationary=res.stationary),
-        tolerance='the nominal optimum, refined under the gain tolerance')
+    stats = dict(nominal.stats, refine=res.summary(),
+                 tolerance='the nominal optimum, refined under the gain tolerance')
     try:
         report = check(res.G, method=f'{convex.method}+refine',
                        stage='refined', convex=convex, stats=stats)
