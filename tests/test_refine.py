@@ -9,6 +9,7 @@ import pytest
 
 import controlext as cx
 import controlext.synthesis.pipeline as pipeline
+import controlext.synthesis.polish as polish
 import controlext.synthesis.refine as refine
 from controlext.exceptions import VerificationError
 from controlext.synthesis import ObserverProblem, RefineOptions
@@ -33,12 +34,12 @@ def test_best_point_inside_the_region_when_the_final_push_fails(monkeypatch):
     best point inside the region met on the way, never a point outside."""
     prob = ObserverProblem(A=[[-1.0, 1.0], [-1.0, 0.0]], C=[[1.0, 2.0]])
     region = cx.HalfPlane(1.0)
-    push = refine._make_feasible
+    push = polish.make_feasible
 
     def no_final_push(obj, G, target, maxiter=200, **kw):
         return None if target == 0.0 else push(obj, G, target, maxiter, **kw)
 
-    monkeypatch.setattr(refine, '_make_feasible', no_final_push)
+    monkeypatch.setattr(polish, 'make_feasible', no_final_push)
     start = np.array([[2.0], [5.0]])        # the paper's K0: decay 1
     res = refine.refine_gain(prob, region, [('start', start)],
                              options=dict(random_starts=0, rho=1e-3))
@@ -52,7 +53,7 @@ def test_best_point_inside_the_region_when_the_final_push_fails(monkeypatch):
 def test_inner_loop_runs_blas_on_one_thread():
     threadpoolctl = pytest.importorskip('threadpoolctl')
 
-    @refine.single_threaded
+    @polish.single_threaded
     def inside():
         return [d['num_threads'] for d in threadpoolctl.threadpool_info()
                 if d['user_api'] == 'blas']
@@ -98,13 +99,13 @@ def test_large_gains_get_shorter_polishing(monkeypatch):
     are used as they are; small error systems keep 600 iterations, and
     small gains restart BFGS more often within the same 2400 steps."""
     seen = []
-    real = refine._polish_step
+    real = polish.polish_step
 
     def spy(args):
         seen.append(args[2:4])
         return real(args)
 
-    monkeypatch.setattr(refine, '_polish_step', spy)
+    monkeypatch.setattr(polish, 'polish_step', spy)
     rng = np.random.default_rng(0)
     big = _stable_pair(rng, 33)                       # 66 states, 66 x 4 entries
     G = np.zeros(big.gain_shape)
@@ -175,7 +176,7 @@ def test_costly_problems_screen_twice_and_keep_given_starts(monkeypatch):
 
 def _scripted_polish(monkeypatch, scripts, restarts, floor=None,
                      best=np.inf):
-    """Run refine._polish on runs whose segments end at scripted values;
+    """Run polish.polish_runs on runs whose segments end at scripted values;
     returns the segments each ran, the results and the points."""
     segments = []
 
@@ -195,8 +196,8 @@ def _scripted_polish(monkeypatch, scripts, restarts, floor=None,
             run.result = (value, name)
         return run
 
-    monkeypatch.setattr(refine, '_polish_step', step)
-    results, points = refine._polish(None, None, [(name, (best, None))
+    monkeypatch.setattr(polish, 'polish_step', step)
+    results, points = polish.polish_runs(None, None, [(name, (best, None))
                                                   for name in scripts], 0,
                                      restarts, RefineOptions(), floor)
     return {name: segments.count(name) for name in scripts}, results, points
@@ -270,13 +271,13 @@ def test_a_segment_ends_where_it_meets_the_floor():
     the floor level (``enough``), not at the end of its budget; the norm
     and decay of the point it stops at are recomputed independently."""
     prob, obj, G0 = _paper_pair()
-    run = refine.PolishRun(x=G0.ravel(), best=(np.inf, None))
-    free = refine._polish_step((obj, run, 600, 0, 0, 1e-7, None))
+    run = polish.PolishRun(x=G0.ravel(), best=(np.inf, None))
+    free = polish.polish_step((obj, run, 600, 0, 0, 1e-7, None))
     # measurement noise only: γ -> 0 as the gain grows; the free segment
     # passes 1e-2 within its first quarter and goes on far below it
     assert free.best[0] < 1e-6
     obj.reset_best()
-    stopped = refine._polish_step((obj, run, 600, 0, 0, 1e-7, 1e-2))
+    stopped = polish.polish_step((obj, run, 600, 0, 0, 1e-7, 1e-2))
     gamma, G = stopped.best
     assert 1e-6 < gamma <= 1e-2
     assert stopped.points < free.points / 2
@@ -288,17 +289,17 @@ def test_race_reach_of_shrinking_gains():
     gains shrink the sum of their geometric continuation (summed here
     term by term), whichever is smaller."""
     def run_of(gain, previous):
-        return refine.PolishRun(x=None, best=None, gain=gain,
+        return polish.PolishRun(x=None, best=None, gain=gain,
                                 previous=previous)
 
     run = run_of(0.004, 0.005)
     series = sum(0.004 * 0.8 ** k for k in range(1, 2000))
-    assert refine._reach(run, 10) == pytest.approx(series, rel=1e-12)
-    assert refine._reach(run, 2) == pytest.approx(0.008)     # linear
+    assert polish.reach(run, 10) == pytest.approx(series, rel=1e-12)
+    assert polish.reach(run, 2) == pytest.approx(0.008)     # linear
     # growing or first gains: the linear reach
-    assert refine._reach(run_of(0.004, 0.002), 10) == \
+    assert polish.reach(run_of(0.004, 0.002), 10) == \
         pytest.approx(0.04)
-    assert refine._reach(run_of(0.004, np.inf), 10) == \
+    assert polish.reach(run_of(0.004, np.inf), 10) == \
         pytest.approx(0.04)
 
 
@@ -342,13 +343,13 @@ def test_the_run_that_meets_the_floor_ends_its_round(monkeypatch):
     screened = [(G0.ravel(), (np.inf, None)),
                 (1.5 * G0.ravel(), (np.inf, None))]
     calls = []
-    step = refine._polish_step
+    step = polish.polish_step
 
     def counted(args):
         calls.append(args[1].stop)
         return step(args)
 
-    monkeypatch.setattr(refine, '_polish_step', counted)
+    monkeypatch.setattr(polish, 'polish_step', counted)
 
     class Eager:
         """An executor that computes every call, in order."""
@@ -361,7 +362,7 @@ def test_the_run_that_meets_the_floor_ends_its_round(monkeypatch):
     for name, executor in (('serial', None), ('eager', Eager())):
         calls.clear()
         obj.reset_best()
-        results[name] = refine._polish(executor, obj, screened, 600, 3,
+        results[name] = polish.polish_runs(executor, obj, screened, 600, 3,
                                        opts, floor=1e-2)[0]
         results[name + ' calls'] = list(calls)
     # serial: the first run's segment meets the floor, the second's is

@@ -206,7 +206,7 @@ def _polytope(problem, G, region, options, report):
     return level
 
 
-def one_copy(problem, region, options, convex, bound, floor):
+def _one_copy(problem, region, options, convex, bound, floor):
     """The one-copy design ``(G, report)`` of a problem of copies, a
     start for them (without the limits where no one-copy design meets
     them)."""
@@ -385,8 +385,8 @@ def synthesise(problem, region, options, convex=None, check=None,
         starts += _bounded_starts(problem, region, options, bound)
     if problem.copies > 1:
         if single is None:
-            single = one_copy(problem, region, options, convex, bound,
-                              floor)
+            single = _one_copy(problem, region, options, convex, bound,
+                               floor)
         G1, rep1 = single
         stats.update(luenberger_hinf=rep1.hinf)
         one = criteria.value(rep1)
