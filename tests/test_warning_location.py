@@ -15,7 +15,7 @@ import pytest
 
 import controlext as cx
 from controlext import norms
-from controlext.synthesis.conditioning import warn_if_held
+from controlext.synthesis.conditioning import GainBound, warn_if_held
 
 UNSTABLE = ct.ss([[1.0]], [[1.0]], [[1.0]], 0)
 #: a discrete mode seen 1e-8 as strongly as the other: moving it into
@@ -62,7 +62,7 @@ def test_held_at_the_default_bound_is_told_at_the_call():
         hinf = 0.5
         stats: dict = {}
 
-    bound = (2.0, np.ones(2))
+    bound = GainBound(2.0, np.ones(2))
     G = np.array([[2.0], [0.0]])                # ‖G‖₂ = 2: at the bound
     caught = _caught(lambda: warn_if_held(bound, G, Report, 'auto'))
     assert _here(caught, cx.GainWarning) == {

@@ -28,8 +28,8 @@ from ..sweep import observer
 from ..synthesis.refine import single_threaded
 from .plants import scalar_plant, second_order_plant
 
-__all__ = ['TABLE', 'ROBUST', 'TRADEOFF_DECAYS', 'FIGURE_OPTIONS', 'tradeoff_keys',
-           'run_designs', 'designs_for']
+__all__ = ['TABLE', 'ROBUST', 'TRADEOFF_DECAYS', 'FIGURE_OPTIONS',
+           'tradeoff_keys', 'run_designs', 'designs_for']
 
 #: the designs of the table
 TABLE = [('scalar', 2, 2.5), ('scalar', 3, 2.5),

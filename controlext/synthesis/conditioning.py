@@ -144,7 +144,6 @@ def warn_if_held(bound, G, report, max_gain):
     smaller γ exists, with a larger gain."""
     if bound is None:
         return
-    bound = GainBound.of(bound)
     norm = bound.norm(G)
     report.stats['max_gain'] = dict(bound=bound.level, norm=norm)
     if max_gain == 'auto' and 0.999 * bound.level <= norm and \
