@@ -668,7 +668,11 @@ def run_case(case, queue):
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter('always')
-            obs = design(case)
+            began = time.perf_counter()
+            try:
+                obs = design(case)
+            finally:
+                queue.put(('seconds', time.perf_counter() - began))
         warned = any(issubclass(w.category, cx.GainWarning) for w in caught)
         why = judge(case, obs)
         # the plant's scale: rate over measurement size (not meaningful
@@ -791,6 +795,8 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
                 got = queue.get()
                 if got[0] == 'memory':
                     memo['peak'] = got[1] // 1024
+                elif got[0] == 'seconds':
+                    memo['seconds'] = got[1]
                 else:
                     result = got
             if result is not None:
@@ -812,7 +818,7 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
             counts['other warnings'] += bool(others)
             details.append((case['seed'], case['family'], case['kind'],
                             case['dt'] > 0, case['region'], outcome, why,
-                            others))
+                            others, memo.get('seconds')))
             if verbose:
                 print(case['seed'], case['family'], case['kind'], outcome,
                       why if outcome not in ('verified', 'refused right')
@@ -820,6 +826,23 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
                       *(['(unwarned huge gain)'] if unwarned else []),
                       flush=True)
     return counts, details
+
+
+def _design_times(details):
+    """Print the design calls' own times (the factory call alone, in its
+    process; not the checks): median, 90th percentile, largest, and the
+    five slowest calls."""
+    timed = [d for d in details if d[8] is not None]
+    if not timed:
+        return
+    seconds = np.array([d[8] for d in timed])
+    print(f"design time over {len(timed)} calls: median "
+          f"{np.median(seconds):.2f} s, 90th percentile "
+          f"{np.percentile(seconds, 90):.2f} s, largest {seconds.max():.2f} s,"
+          f" above 20 s: {int(np.sum(seconds > 20))}")
+    for d in sorted(timed, key=lambda d: -d[8])[:5]:
+        print(f"  {d[8]:7.2f} s  seed {d[0]} {d[1]} {d[2]}"
+              f"{' discrete' if d[3] else ''} {d[4]} -> {d[5]}")
 
 
 def main():
@@ -844,6 +867,7 @@ def main():
     outcome, message, peak, seconds = memory_check()
     print(f"200-state method='lmi': {outcome} in {seconds} s, peak "
           f"{peak} MB: {message}")
+    _design_times(details)
     by = collections.Counter((d[1], d[5]) for d in details)
     print("\nby family:")
     for family in FAMILIES:
