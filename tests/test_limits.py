@@ -153,3 +153,38 @@ def test_refine_false_says_only_refinement_holds_the_limits():
     with pytest.raises(cx.VerificationError, match='only refinement'):
         cx.coupled_observer(SCALAR, decay=2.5, settling_time=1.0,
                             refine=False)
+
+
+
+def test_certificate_gradient_where_the_resolvent_is_singular():
+    """The certificate's gradient solves with ``M = z I − Acl`` at the
+    peak ``z`` of the resolvent on the region's edge.  A pole the
+    measurements do not see can sit at ``z`` (the resolvent stays
+    finite) and a pole 1e-8 inside the edge can make ``M`` singular to
+    working precision: a screened start of the campaign's seed 70 (GI
+    augmented, decay 0.26) crashed there with ``LinAlgError``."""
+    from controlext.synthesis.limits import GainTolerance, _resolvent_vectors
+    # an unseen pole at z = −1: Ce (zI − Acl)⁻¹ = [0, 1/(z + 2)], whose
+    # top singular vectors are e₂, so the derivative Re(a bᴴ) is e₂e₂ᵀ
+    a, b = _resolvent_vectors(-1.0 + 0j, np.diag([-1.0, -2.0]),
+                              np.array([[0.0, 1.0]]), np.ones(2))
+    np.testing.assert_allclose(np.real(np.outer(a.conj(), b)),
+                               [[0, 0], [0, 1]], atol=1e-12)
+    # the start that crashed (its gain, error matrix and sensors)
+    G = np.array([[-107.7460273582664, -165.98232333475036],
+                  [-30.032923453107184, -41.32486949560043],
+                  [63.94444244320792, 94.1648389747249]])
+    Acl = np.array([[-412.89144733356943, -155.6702943034146,
+                     -198.93385708626354],
+                    [-105.44719230832102, -39.74770821108722,
+                     -50.70566679176394],
+                    [237.12707868993746, 88.80675831966558,
+                     113.76914654685679]])
+    Ce = np.array([[-1.1168134675467056, -0.41825920619658313,
+                    -0.53582625719842],
+                   [-1.759818909041806, -0.6590719769546299,
+                    -0.844328266787706]])
+    limit = GainTolerance(1e-6, cx.HalfPlane(decay=0.2595910819058488))
+    value, gradient = limit.ratio(G, Acl, Ce)
+    assert np.isfinite(value)
+    assert np.all(np.isfinite(gradient()))
