@@ -37,11 +37,12 @@ from .convex import ConvexResult, convex_stage
 from .refine import RefineResult, refine_gain
 # verification  (verify.py)
 from .verify import DesignReport, verify_design
+from .records import DesignStats, RefineSummary
 # the pipeline  (pipeline.py)
 from .pipeline import synthesise, needs_refinement
 
 __all__ = ['ObserverProblem', 'plant_problem', 'Criteria', 'SynthesisOptions',
            'RefineOptions', 'Region', 'HalfPlane', 'Disk', 'Sector',
            'region_for', 'ConvexResult', 'convex_stage', 'RefineResult',
-           'refine_gain', 'DesignReport', 'verify_design', 'synthesise',
-           'needs_refinement']
+           'refine_gain', 'DesignReport', 'DesignStats', 'RefineSummary',
+           'verify_design', 'synthesise', 'needs_refinement']

@@ -41,6 +41,7 @@ from ..exceptions import (GainWarning, ParameterError,
 from .criteria import NAMES
 from .convex import convex_stage
 from .refine import refine_gain
+from .records import DesignStats, RefineSummary
 from .regions import region_for
 from .limits import limits_of
 from .conditioning import (gain_bound,
@@ -137,7 +138,7 @@ def _design(cls, problem, options, decay, region, system, what):
                              max_states=options.lmi_max_states)
     report.tradeoff = tradeoff_of(
         problem, G, system['name'] or '', floor=floor,
-        luenberger=report.stats.get('luenberger_hinf'), region=region,
+        luenberger=report.stats.luenberger_hinf, region=region,
         hinf=report.hinf)
     warn_if_fragile(report)
     report.time = time.perf_counter() - start
@@ -360,11 +361,12 @@ def synthesise(problem, region, options, convex=None, check=None,
     if best is not None and criteria.value(best) <= _equal(0.0, problem):
         # 0 is the least any design can have, and no design counts as
         # better than one this close to it (see the ranking below)
-        best.stats = dict(best.stats, floor='the convex design has a norm '
-                          'of 0 to the ranking tolerance: nothing to refine')
+        best.stats = best.stats.replace(
+            floor='the convex design has a norm of 0 to the ranking '
+            'tolerance: nothing to refine')
         return convex.G, best
     starts = [(convex.stage, convex.G)]
-    stats = dict(convex.stats)
+    stats = DesignStats.of(convex.stats)
     if floor is None:
         floor = filter_floor(problem, options.solver,
                              max_states=options.lmi_max_states,
@@ -375,7 +377,7 @@ def synthesise(problem, region, options, convex=None, check=None,
             criteria.value(best) <= floor + _equal(floor, problem):
         # the convex design is at the level no observer of any structure
         # can beat: refinement has nothing to gain
-        best.stats = dict(stats, headroom=(
+        best.stats = stats.replace(headroom=(
             f"the convex design reaches the unconstrained filter level "
             f"{floor:.6g} of the {what} ({criteria.value(best):.6g}): no "
             "observer of any structure or order can do better, so it was "
@@ -447,7 +449,7 @@ def synthesise(problem, region, options, convex=None, check=None,
                           floor=floor, criteria=criteria)
     except VerificationError as exc:
         # the convex design is verified already: keep it, say why
-        stats['refine'] = dict(failed=str(exc))
+        stats['refine'] = RefineSummary(failed=str(exc))
         candidates = []
     else:
         stats['refine'] = res.summary()
@@ -534,9 +536,10 @@ def _refusal(stats, convex, bound, over_bound):
     failed; its ``bounded`` says whether the gain bound refused a
     candidate or held refinement back (a retry without it may find a
     design)."""
-    steps = [f"{stage}: {why}" for stage, why in stats.get('refused', [])]
-    if 'failed' in stats.get('refine', {}):
-        steps.append(f"refinement: {stats['refine']['failed']}")
+    failed = None if stats.refine is None else stats.refine.failed
+    steps = [f"{stage}: {why}" for stage, why in stats.refused or []]
+    if failed is not None:
+        steps.append(f"refinement: {failed}")
     steps += [f"{name}: {why}" for name, why in
               convex.stats.get('fallback', [])]
     refusal = VerificationError(
@@ -544,7 +547,7 @@ def _refusal(stats, convex, bound, over_bound):
         "a looser region or a larger margin=" +
         ("" if bound is None else " or max_gain="))
     refusal.bounded = bound is not None and (
-        bool(over_bound) or 'failed' in stats.get('refine', {}))
+        bool(over_bound) or failed is not None)
     return refusal
 
 
@@ -558,10 +561,10 @@ def _rank(verified, criteria, problem, method, stats):
                    if criteria.value(rep) <= lowest + _equal(lowest,
                                                              problem)),
                   key=lambda item: np.linalg.norm(item[1], 2))
-    limits = best.stats.get('limits')
+    limits = best.stats.limits
     best.method, best.stats = method, stats
     if limits is not None:
-        best.stats = dict(stats, limits=limits)
+        best.stats = stats.replace(limits=limits)
     return G, best
 
 

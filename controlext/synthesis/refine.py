@@ -46,6 +46,7 @@ from .options import RefineOptions
 from .placed import near_edge, placed_polish
 from .polish import make_feasible, polish_runs, run_all, single_threaded
 from .rates import REGION_TOL
+from .records import RefineSummary
 from .stationary import Stationarity, stationarity
 
 __all__ = ['RefineResult', 'refine_gain']
@@ -89,9 +90,9 @@ class RefineResult:
     def summary(self):
         """What a design report keeps of the refinement: everything but
         the gain and its norm (``report.stats['refine']``)."""
-        return dict(start=self.start, starts=self.starts,
-                    evaluations=self.evaluations, time=self.time,
-                    phases=self.phases, stationary=self.stationary)
+        return RefineSummary(start=self.start, starts=self.starts,
+                             evaluations=self.evaluations, time=self.time,
+                             phases=self.phases, stationary=self.stationary)
 
 
 def _on_boundary(obj, G):

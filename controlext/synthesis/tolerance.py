@@ -107,10 +107,10 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
     except VerificationError:
         pass
     else:
-        limits = report.stats.get('limits')
-        report.stats = dict(nominal.stats, limits=limits,
-                            tolerance='the nominal optimum keeps its region '
-                            'under the gain tolerance')
+        report.stats = nominal.stats.replace(
+            limits=report.stats.limits,
+            tolerance='the nominal optimum keeps its region under the gain '
+            'tolerance')
         return (Gn, report), [], False, []
     starts = [(NOMINAL, Gn)]
     if criteria.gain_tolerance >= TOLERANCE_TOP:
@@ -158,14 +158,15 @@ def _repaired(problem, region, options, convex, bound, floor, check, Gn,
                           floor=floor, criteria=criteria)
     except VerificationError:
         return None
-    stats = dict(nominal.stats, refine=res.summary(),
-                 tolerance='the nominal optimum, refined under the gain tolerance')
+    stats = nominal.stats.replace(
+        refine=res.summary(),
+        tolerance='the nominal optimum, refined under the gain tolerance')
     try:
         report = check(res.G, method=f'{convex.method}+refine',
                        stage='refined', convex=convex, stats=stats)
     except VerificationError:
         return None
-    report.stats = dict(stats, limits=report.stats.get('limits'))
+    report.stats = stats.replace(limits=report.stats.limits)
     return res.G, report
 
 
@@ -180,6 +181,6 @@ def _better(design, G, check, criteria, convex):
     except VerificationError:
         return design
     if criteria.value(report) < criteria.value(design[1]):
-        report.stats = dict(like.stats, limits=report.stats.get('limits'))
+        report.stats = like.stats.replace(limits=report.stats.limits)
         return G, report
     return design

@@ -32,6 +32,7 @@ from .._text import table_row
 from .criteria import NAMES, Criteria, h2_norm
 from .limits import limits_of
 from .rates import REGION_TOL, STABILITY_TOL, decay_rate
+from .records import DesignStats
 
 if TYPE_CHECKING:
     from .regions import Region
@@ -119,8 +120,11 @@ class DesignReport:
         Solver used and its final status.
     time : float
         Wall-clock time of the design, in seconds.
-    stats : dict
-        Solver statistics and stage details.
+    stats : DesignStats
+        How the design was made: solver statistics, the refinement, the
+        limits' ratios (:class:`~controlext.synthesis.records.DesignStats`,
+        a typed record that reads as a mapping of what was recorded; a
+        mapping given here becomes one).
     tradeoff : Tradeoff or None
         What the design trades besides γ (floor, H2 norm, transient, gain
         norm, decay sensitivity; :mod:`controlext.synthesis.tradeoff`):
@@ -148,13 +152,18 @@ class DesignReport:
     solver: str | None = None
     status: str | None = None
     time: float = 0.0
-    stats: dict = field(default_factory=dict)
+    stats: DesignStats = field(default_factory=DesignStats)
     tradeoff: Tradeoff | None = None
     h2: float | None = None
     criteria: Criteria | None = None
     hinf_rounding: float = 0.0
     models: list[ModelReport] | None = None
     polytope: float | None = None
+
+    def __setattr__(self, name, value):
+        if name == 'stats' and not isinstance(value, DesignStats):
+            value = DesignStats.of(value)
+        super().__setattr__(name, value)
 
     @property
     def gamma_opt(self) -> float | None:
@@ -169,8 +178,13 @@ class DesignReport:
         """Did refinement's end point pass the gradient-sampling
         stationarity test (:mod:`~controlext.synthesis.stationary`)?
         None where the design was not refined."""
-        test = self.stats.get('refine', {}).get('stationary')
+        test = self._stationarity()
         return None if test is None else bool(test.passed)
+
+    def _stationarity(self):
+        """The stationarity test of refinement's end point, or None."""
+        refine = self.stats.refine
+        return None if refine is None else refine.stationary
 
     def as_dict(self) -> dict[str, Any]:
         """The report as a plain dictionary."""
@@ -210,7 +224,7 @@ class DesignReport:
         lines.append(table_row('how the gain was found',
                                f"{origin(self.stage, self.method)} "
                                f"({self.time:.3g} s)"))
-        test = self.stats.get('refine', {}).get('stationary')
+        test = self._stationarity()
         if test is not None:
             lines.append(table_row(
                 'refinement ended', "at a stationary point" if test.passed
@@ -376,7 +390,7 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
             raise VerificationError(f"the {method} design "
                                     f"{limit.explain(ratio)}")
     if ratios:
-        report.stats = dict(report.stats, limits=ratios)
+        report.stats = report.stats.replace(limits=ratios)
     return report
 
 
@@ -389,7 +403,7 @@ def worst_case(reports):
     h2 = [rep.h2 for rep in reports]
     limits = {}
     for rep in reports:
-        for name, ratio in rep.stats.get('limits', {}).items():
+        for name, ratio in (rep.stats.limits or {}).items():
             limits[name] = max(ratio, limits.get(name, ratio))
     out = replace(reports[0], hinf=top.hinf, peak_frequency=top.peak_frequency,
                   hinf_rounding=top.hinf_rounding,
@@ -402,5 +416,5 @@ def worst_case(reports):
                                       hinf_rounding=rep.hinf_rounding)
                           for rep in reports])
     if limits:
-        out.stats = dict(out.stats, limits=limits)
+        out.stats = out.stats.replace(limits=limits)
     return out
