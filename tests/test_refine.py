@@ -375,3 +375,32 @@ def test_the_run_that_meets_the_floor_ends_its_round(monkeypatch):
     gamma, G = min(results['serial'], key=lambda item: item[0])
     assert gamma <= 1e-2 * (1 + opts.floor_tol)
     _check_inside(prob, G, gamma)
+
+
+def test_a_feasibility_push_stops_at_its_evaluation_budget():
+    """A push that cannot succeed (the margin's least value, 1, is above
+    the target 0) ends after the step that reaches its budget of margin
+    evaluations; without one it runs until BFGS stalls."""
+    class Margin:
+        constrained = True
+
+        def __init__(self):
+            self.calls = 0
+
+        def margin(self, G):
+            # a ridge BFGS crosses slowly: curvature 1e4 along one axis
+            self.calls += 1
+            x = G.ravel()
+            scale = np.array([1.0, 1e4])
+            value = 1.0 + float(np.sum(scale * np.log1p(x ** 2)))
+            return value, (2 * scale * x / (1 + x ** 2)).reshape(G.shape)
+
+    start = np.array([[30.0], [0.3]])
+    free, held = Margin(), Margin()
+    assert polish.make_feasible(free, start, 0.0, maxiter=200,
+                                stall=(15, 1e-9)) is None
+    assert polish.make_feasible(held, start, 0.0, maxiter=200,
+                                stall=(15, 1e-9), evaluations=20) is None
+    # the step that reaches 20 finishes: at most one line search (40
+    # points and a gradient) beyond, and the first margin check
+    assert held.calls <= 20 + 42 < free.calls

@@ -85,19 +85,27 @@ class PolishRun:
     points: int = 0
 
 
-def make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7)):
+def make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7),
+                  evaluations=None):
     """Push the worst constraint margin below ``target`` (phase 1); the
     push gives up when ``stall = (steps, rtol)`` steps gained less than
-    ``rtol`` (relative)."""
+    ``rtol`` (relative), or after the step that reaches ``evaluations``
+    margin evaluations (line searches included)."""
     if not obj.constrained or obj.margin(G)[0] <= target:
         return G
+    count = [0]
 
     def f(x, grad=True, above=None):
+        count[0] += 1
         m, g = obj.margin(x.reshape(G.shape))
         return m, g.ravel()
 
-    x, _ = bfgs(f, G.ravel(), maxiter, stop=lambda x, fx: fx <= target,
-                stall=stall[0], stall_tol=stall[1])
+    def stop(x, fx):
+        return fx <= target or (evaluations is not None and
+                                count[0] >= evaluations)
+
+    x, _ = bfgs(f, G.ravel(), maxiter, stop=stop, stall=stall[0],
+                stall_tol=stall[1])
     G = x.reshape(G.shape)
     return G if obj.margin(G)[0] <= target else None
 
