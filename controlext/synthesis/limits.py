@@ -168,16 +168,22 @@ class GainTolerance:
                 f"errors up to {self.eps / ratio:.3g}, less than "
                 f"gain_tolerance={self.eps:.3g}")
 
-    def verify(self, problem, G, region=None):
-        """The certified ratio of ``G`` on ``problem``: the smaller of the
-        given and the canonical units' (``<= 1``: certified); ``inf`` when
-        the gain rounded to :attr:`digits` digits leaves the region."""
+    def verify(self, problem, G, region=None, units=None):
+        """The certified ratio of ``G`` on ``problem``: the smallest of
+        the given, the canonical and ``units``' (the state units a design
+        was made in, if any) — each is a valid certificate, the error
+        being relative to every entry in any units (``<= 1``:
+        certified); ``inf`` when the gain rounded to :attr:`digits`
+        digits leaves the region."""
         G = np.asarray(G, float)
         Acl = problem.error_system(G)[0]
-        scale = np.kron(np.ones(problem.copies), problem.state_scaling())
+        copies = np.ones(problem.copies)
+        weights = [np.ones(G.shape[0]),
+                   np.kron(copies, problem.state_scaling())]
+        if units is not None:
+            weights.append(np.kron(copies, np.asarray(units, float)))
         limit = GainTolerance(self.eps, region, problem.dt)
-        ratio = min(limit.ratio(G, Acl, problem.Ce, w)[0]
-                    for w in (np.ones(G.shape[0]), scale))
+        ratio = min(limit.ratio(G, Acl, problem.Ce, w)[0] for w in weights)
         if np.isfinite(ratio) and self.digits <= 17 and \
                 not rounded_keeps(problem, G, region, self.digits):
             return float('inf')
@@ -271,9 +277,9 @@ class SettlingTime:
         return (f"settles to 2 % in {ratio * self.T:.6g}, after "
                 f"settling_time={self.T:.6g}")
 
-    def verify(self, problem, G, region=None):
+    def verify(self, problem, G, region=None, units=None):
         """The settling time of ``G`` against ``T`` (``<= 1``: met), from
-        the dense simulation of the trade-off."""
+        the dense simulation of the trade-off (``units`` do not matter)."""
         settle = transient(problem, G)[1]
         return settle / self.T if self.T > 0 else \
             (0.0 if settle == 0 else float('inf'))

@@ -153,7 +153,7 @@ def _attempt(problem, scaled, d, region, options):
 
     def check(G, **info):
         return verify_design(problem, problem.unscale_gain(G, d), region,
-                             criteria=criteria, **info)
+                             criteria=criteria, units=d, **info)
 
     bound = gain_bound(scaled, d, options.max_gain, region)
     try:

@@ -297,7 +297,8 @@ def origin(stage, method) -> str:
 
 
 def verify_design(problem, G, region=None, gamma_bound=None, method='given',
-                  check=True, convex=None, criteria=None, **info):
+                  check=True, convex=None, criteria=None, units=None,
+                  **info):
     """Compute the report of gain ``G`` on ``problem`` and check it.
 
     On a problem of several plant models (``problem.members``) every
@@ -313,6 +314,9 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
     ratios go to ``stats['limits']``.  ``convex`` (a
     :class:`~controlext.synthesis.convex.ConvexResult`) fills in the
     method, bound, γ*, solver, status and statistics of the convex stage.
+    ``units`` (a diagonal state scaling, per plant state) are the units a
+    gain was designed in: a gain tolerance is then also certified in
+    them (:meth:`~controlext.synthesis.limits.GainTolerance.verify`).
     """
     if convex is not None:
         if G is convex.G and gamma_bound is None:
@@ -328,7 +332,7 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
             try:
                 reports.append(verify_design(
                     member, G, region, gamma_bound, method, check, convex,
-                    criteria, **info))
+                    criteria, units, **info))
             except VerificationError as exc:
                 raise VerificationError(
                     f"on model {k} of {len(members)}: {exc}") from None
@@ -385,7 +389,8 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
                 f"max_{name} = {bound:.6g}")
     ratios = {}
     for limit in limits_of(criteria, problem, region):
-        ratios[limit.name] = ratio = limit.verify(problem, G, region)
+        ratios[limit.name] = ratio = limit.verify(problem, G, region,
+                                                  units=units)
         if not ratio <= 1 + NORM_RTOL:
             raise VerificationError(f"the {method} design "
                                     f"{limit.explain(ratio)}")
