@@ -404,3 +404,18 @@ def test_a_feasibility_push_stops_at_its_evaluation_budget():
     # the step that reaches 20 finishes: at most one line search (40
     # points and a gradient) beyond, and the first margin check
     assert held.calls <= 20 + 42 < free.calls
+
+
+def test_costly_problem_whose_starts_all_fail_screening_is_refused(
+        monkeypatch):
+    """A costly problem (a 60-state pair's repair: three starts, no random
+    ones) whose starts all fail their feasibility push has nothing to
+    screen twice: refinement says it found no gain (the pipeline then
+    takes its next road) instead of failing on an empty list."""
+    monkeypatch.setattr(refine, '_screen', lambda args: (np.inf, None, 0))
+    rng = np.random.default_rng(1)
+    costly = _stable_pair(rng, 20)                    # 40 states, 160 entries
+    with pytest.raises(VerificationError, match='found no gain'):
+        refine.refine_gain(costly, None,
+                           [('zero', np.zeros(costly.gain_shape))],
+                           options=dict(random_starts=0))

@@ -307,7 +307,7 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
     evaluations = probe.count + sum(count for _, _, count in runs)
     batches = [screened[first:first + polish]
                for first in range(0, len(screened), polish)]
-    if costly and len(batches[0]) > 1:
+    if costly and batches and len(batches[0]) > 1:
         # a polishing run of a costly problem takes thousands of points:
         # a second round of screening decides which deserve one (at
         # n = 60 a start 1.4x behind after the first round was polished
