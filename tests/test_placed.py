@@ -60,7 +60,15 @@ def test_helicopter_pair_reaches_the_floor():
     edge, so it is fragile: gain errors of 1e-6 (relative, random signs)
     cost about a third of its decay.  That is where the fragility warning
     starts (by the package's own draws), so whether it comes depends on
-    the last digits of the design; when it comes it is a GainWarning."""
+    the last digits of the design; when it comes it is a GainWarning.
+
+    The polishing runs end in basins up to 16 % apart, which one is best
+    depending on the last digits of the plant: the polish with the poles
+    as variables ended at 19.79 from the best run on this plant and at
+    17.21 from the third on the plant moved by 1e-13.  It now goes on to
+    the next basin where the best run's does not improve, and the plant
+    moved by 1e-13 (relative, random signs, as
+    ``benchmarks/reproducibility.py`` moves it) gets the same level."""
     plant = PUBLIC['HE1']
     Bw, Dw = noise_model(plant)
     level = riccati_level(plant.A, plant.C, Bw, Dw, np.eye(plant.nstates))
@@ -75,6 +83,19 @@ def test_helicopter_pair_reaches_the_floor():
     # with the last digits of the BLAS (17.356 with numpy 2.5 / scipy
     # 1.18, 17.087 with numpy 2.2)
     assert level * (1 - 1e-6) <= obs.hinf <= level * 1.02
+    rng = np.random.default_rng(0)
+    for _ in range(2):
+        A = plant.A * (1 + 1e-13 * rng.choice([-1.0, 1.0], plant.A.shape))
+        C = plant.C * (1 + 1e-13 * rng.choice([-1.0, 1.0], plant.C.shape))
+        with warnings.catch_warnings():
+            warnings.simplefilter('ignore', cx.GainWarning)
+            moved = cx.coupled_observer(ct.ss(A, plant.B, C, plant.D),
+                                        decay=0.5, Bw=Bw, Dw=Dw,
+                                        gain_tolerance=0)
+        p = moved.problem
+        norm = ct.linfnorm(ct.ss(p.Ae - moved.G @ p.Ce,
+                                 moved.G @ p.Dwe - p.Bwe, p.Cze, 0))[0]
+        assert level * (1 - 1e-6) <= norm <= level * 1.02
     G = np.asarray(obs.G).reshape(obs.problem.gain_shape)
 
     def decay(gain):

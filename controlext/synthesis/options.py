@@ -137,11 +137,14 @@ class RefineOptions:
         Recent peak frequencies the line search's lower bound looks at.
     placed_states, placed_starts : int
         On error systems of at most ``placed_states`` states whose best
-        design has three or more poles on the region's edge, the
-        ``placed_starts`` best results whose pole map is regular (not the
-        Luenberger-equivalent start, whose identical copies make it
-        singular) are polished again with the poles as variables
-        (:mod:`~controlext.synthesis.placed`).
+        design has three or more poles on the region's edge, the best
+        result whose pole map is regular (not the Luenberger-equivalent
+        start, whose identical copies make it singular) is polished
+        again with the poles as variables
+        (:mod:`~controlext.synthesis.placed`); where that does not beat
+        it, so are the next results more than ``race_tie`` behind the
+        last one polished (another basin), until one beats it or
+        ``placed_starts`` were polished.
     """
     random_starts: int | None = None
     screen_iterations: int = 25
@@ -167,7 +170,7 @@ class RefineOptions:
     second_round_keep: float = 1.05
     peaks: int = 4
     placed_states: int = 12
-    placed_starts: int = 1
+    placed_starts: int = 3
 
     def __post_init__(self):
         for name, rule in _REFINE_CHECKS.items():
