@@ -54,6 +54,28 @@ def test_rounded_published_gain_is_not_stationary():
     assert not stationarity(obj, np.array([[4.0, 0.0], [0.0, 4.0]])).passed
 
 
+def test_active_gradients_of_an_evaluated_point_are_those_of_a_fresh_one():
+    # the test reuses the evaluation of the point the norm's gradient was
+    # just taken at; a fresh objective computes the margins anew
+    from controlext.synthesis import SynthesisOptions
+    from controlext.synthesis.objective import objective_of
+    obs = cx.coupled_observer(ct_ss([[-0.5]], [[1.0]], [[1.0]]), decay=2.5)
+    prob, G = obs.problem, obs.G
+    criteria = SynthesisOptions(gain_tolerance=1e-6).criteria
+    used, fresh = (objective_of(prob, cx.HalfPlane(2.5), criteria=criteria)
+                   for _ in range(2))
+    used.norm_gradient(G.ravel())
+    again, anew = used.active_gradients(G), fresh.active_gradients(G)
+    # the default design holds the certified ratio at its bound of 1: its
+    # margin (ln r) is active, its poles are not on the edge
+    assert len(anew) == 1 and used.count == 1
+    np.testing.assert_array_equal(again[0], anew[0])
+    from controlext.synthesis.limits import GainTolerance
+    r, _ = GainTolerance(1e-6, cx.HalfPlane(2.5)).ratio(
+        G, prob.Ae - G @ prob.Ce, prob.Ce)
+    assert r == pytest.approx(1.0, abs=1e-6)
+
+
 def ct_ss(A, B, C):
     import control as ct
     return ct.ss(A, B, C, 0)

@@ -370,18 +370,32 @@ class Objective:
         and the worst other margin (gain or norm bound, limit) if it is
         that close to its bound."""
         from .stationary import ACTIVE
-        G = np.asarray(G, dtype=float).reshape(self.shape)
+        G = np.ascontiguousarray(G, dtype=float).reshape(self.shape)
+        last = self._last
+        if last is not None and last[0] == G.tobytes():
+            # the point just evaluated (the stationarity test asks for
+            # the norm's gradient first): its eigendecomposition and
+            # worst margin, not a second pass (a limit's margin costs an
+            # H∞ norm with one input per state)
+            _, _, _, _, lam, V, worst, crit, _, _ = last
+        else:
+            _, lam, V, worst, crit = self._point(G)
+            if self.norm_bounds or self.limits:
+                Acl = self.Ae - G @ self.Ce
+                Bcl = G @ self.Dwe - self.Bwe
+                norms = self._norms(Acl, Bcl, lam, [
+                    name for name, _ in self.norm_bounds])
+                worst, crit = self._bounded(norms, worst, crit, Acl, Bcl,
+                                            G)
         out = []
         if self.region is not None:
-            Acl = self.Ae - G @ self.Ce
-            lam, V = np.linalg.eig(Acl)
             tol = ACTIVE * max(1.0, float(np.max(np.abs(lam))))
             margins = self.region.margins(lam)
             for i, j in zip(*np.nonzero(margins > -tol)):
                 out.append(self._margin_grad(lam, V, (int(i), int(j))).ravel())
-        worst, grad = self.margin(G)
-        if np.isfinite(worst) and worst > -ACTIVE * self.gain_units:
-            out.append(np.asarray(grad).ravel())
+        if self.constrained and np.isfinite(worst) and \
+                worst > -ACTIVE * self.gain_units:
+            out.append(self._margin_grad(lam, V, crit).ravel())
         return out
 
     def pieces(self, x):
