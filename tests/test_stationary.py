@@ -76,6 +76,22 @@ def test_active_gradients_of_an_evaluated_point_are_those_of_a_fresh_one():
     assert r == pytest.approx(1.0, abs=1e-6)
 
 
+def test_large_error_systems_are_tested_on_the_first_samples_only():
+    # 70 lightly damped states seen by one sensor: the test on the first
+    # LARGE_SAMPLES draws of the full test, so never more lenient than it
+    from controlext.synthesis.stationary import LARGE, LARGE_SAMPLES
+    rng = np.random.default_rng(0)
+    n = LARGE + 6
+    A = np.diag(-rng.uniform(0.1, 2.0, n))
+    prob = ObserverProblem(A, rng.normal(size=(1, n)))
+    obj = Objective(prob, None)
+    G = 0.1 * rng.normal(size=(n, 1))
+    short, full = stationarity(obj, G), stationarity(obj, G, samples=60)
+    assert (short.samples, full.samples) == (LARGE_SAMPLES + 1, 61)
+    assert full.measure <= short.measure
+    assert not short.passed
+
+
 def ct_ss(A, B, C):
     import control as ct
     return ct.ss(A, B, C, 0)

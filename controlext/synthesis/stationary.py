@@ -47,6 +47,13 @@ TOL = 1e-7
 #: a constraint is active when its margin is above ``−ACTIVE`` times the
 #: poles' size
 ACTIVE = 1e-5
+#: most samples of the test (twice the gain's entries up to this)
+SAMPLES = 60
+#: most samples on error systems of more than ``LARGE`` states, where an
+#: evaluation costs a tenth of a second or more: the first ones of the
+#: full test's draws, so such a point passes only if the full test would
+#: pass it (a 120-state pair under a gain tolerance: 61 samples took 40 s)
+LARGE_SAMPLES, LARGE = 12, 64
 
 
 @dataclass
@@ -100,12 +107,17 @@ def stationarity(obj, G, seed: int = 0, samples: int | None = None
     """Gradient-sampling test of ``G`` on refinement's objective ``obj``
     (module text): the gradients of the minimised norm at ``G`` and at
     ``samples`` points in the ball around it (default ``2 · entries``, at
-    most 60), and those of the constraints active at ``G``
+    most :data:`SAMPLES`, :data:`LARGE_SAMPLES` on error systems of more
+    than :data:`LARGE` states), and those of the constraints active at
+    ``G``
     and at the samples (``obj.active_gradients``), which enter with any
     nonnegative weight: at a constrained optimum the norm's descent is
     blocked by them."""
     x = np.asarray(G, dtype=float).ravel()
-    count = min(2 * x.size, 60) if samples is None else samples
+    count = samples
+    if count is None:
+        count = min(2 * x.size, SAMPLES if obj.Ae.shape[0] <= LARGE
+                    else LARGE_SAMPLES)
     radius = RADIUS * max(1.0, float(np.linalg.norm(x)))
     rng = np.random.default_rng(seed)
     value, grad = obj.norm_gradient(x)
