@@ -92,21 +92,6 @@ def test_large_error_systems_are_tested_on_the_first_samples_only():
     assert not short.passed
 
 
-def test_a_test_on_a_detached_objective_leaves_the_search_as_it_was():
-    # refinement tests its best result before the pole polish on a copy:
-    # the polish keeps the search's best point, recent peaks and count
-    prob = ObserverProblem([[-0.5]], [[1.0]], copies=2)
-    obj = Objective(prob, cx.HalfPlane(2.5), peaks=4)
-    far = np.array([[6.0, 0.5], [0.5, 6.0]])
-    obj(far.ravel())
-    before = (obj.best[0], list(obj._peaks), obj.count)
-    # the refined optimum's neighbourhood holds points better than `far`
-    G = np.array([[3.5198, -8.0142], [0.2883, 0.4802]])
-    assert stationarity(obj.detached(), G).samples > 1
-    assert obj.norm(G) < before[0]
-    assert (obj.best[0], obj._peaks, obj.count) == before
-
-
 def ct_ss(A, B, C):
     import control as ct
     return ct.ss(A, B, C, 0)

@@ -45,7 +45,6 @@ Examples
 (0.8, (1,))
 """
 
-import copy
 import math
 
 import numpy as np
@@ -149,13 +148,6 @@ class Objective:
     def reset_best(self):
         """Forget the best point inside the region seen so far."""
         self.best = (np.inf, None)
-
-    def detached(self):
-        """A copy to evaluate points on without changing this objective:
-        its best point, recent peak frequencies and counters stay as they
-        are (a test of a point does not steer the search that goes on;
-        every evaluation replaces these attributes, none mutates them)."""
-        return copy.copy(self)
 
     # -- pieces -------------------------------------------------------------
 
@@ -522,12 +514,6 @@ class WorstCase:
     def reset_best(self):
         """Forget the best point inside the constraints seen so far."""
         self.best = (np.inf, None)
-
-    def detached(self):
-        """A copy to evaluate points on (:meth:`Objective.detached`)."""
-        out = copy.copy(self)
-        out.members = [member.detached() for member in self.members]
-        return out
 
     def margin(self, G):
         """Worst constraint margin over the models, and its gradient."""

@@ -137,9 +137,7 @@ class RefineOptions:
         Recent peak frequencies the line search's lower bound looks at.
     placed_states, placed_starts : int
         On error systems of at most ``placed_states`` states whose best
-        design has three or more poles on the region's edge, or, under a
-        limit (a gain tolerance), fails the stationarity test
-        (:mod:`~controlext.synthesis.stationary`), the best
+        design has three or more poles on the region's edge, the best
         result whose pole map is regular (not the Luenberger-equivalent
         start, whose identical copies make it singular) is polished
         again with the poles as variables

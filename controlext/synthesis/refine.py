@@ -347,18 +347,8 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
     results.sort(key=lambda item: item[0])
     phases['polish'] = time.perf_counter() - clock
     clock = time.perf_counter()
-    best_label, test = results[0][1], None
-    placeable = region is not None and obj.placeable and \
-        problem.Ae.shape[0] <= opts.placed_states
-    clustered = placeable and _clustered(obj, results[0][2])
-    if placeable and not clustered and criteria is not None and \
-            criteria.limits:
-        # a limit (the gain tolerance) holds the poles off the edge, where
-        # a result that is not stationary stalled on a kink the pole map
-        # may smooth out; tested on a copy, so that its samples do not
-        # steer the polish that follows
-        test = stationarity(obj.detached(), results[0][2], seed)
-    if clustered or (test is not None and not test.passed):
+    if region is not None and problem.Ae.shape[0] <= opts.placed_states \
+            and obj.placeable and _clustered(obj, results[0][2]):
         # the best results whose pole map is regular (that of the
         # Luenberger-equivalent start, identical copies, is singular);
         # where a polish does not beat the best result, that is a local
@@ -385,8 +375,7 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         results.sort(key=lambda item: item[0])
         phases['placed'] = time.perf_counter() - clock
     gamma, label, G = results[0]
-    if test is None or label != best_label:
-        test = stationarity(obj, G, seed)
+    test = stationarity(obj, G, seed)
     return RefineResult(G=G, gamma=float(gamma), start=label,
                         starts=[(lb, float(g)) for g, lb, _ in results],
                         evaluations=evaluations + test.samples,
