@@ -379,9 +379,8 @@ class Objective:
             # H∞ norm with one input per state)
             _, _, _, _, lam, V, worst, crit, _, _ = last
         else:
-            _, lam, V, worst, crit = self._point(G)
+            Acl, lam, V, worst, crit = self._point(G)
             if self.norm_bounds or self.limits:
-                Acl = self.Ae - G @ self.Ce
                 Bcl = G @ self.Dwe - self.Bwe
                 norms = self._norms(Acl, Bcl, lam, [
                     name for name, _ in self.norm_bounds])
