@@ -186,7 +186,9 @@ def coupled_observer(plant: Plant, decay: float | None = None, copies: int = 2,
     others' average (:meth:`ObserverProblem.grow
     <controlext.synthesis.ObserverProblem.grow>`) — and is a candidate
     too, so more copies are never worse (within the 0.1 % to which
-    designs count as equal).
+    designs count as equal).  Under a gain tolerance (the default) the
+    grown design is refined under it from there, since the grown gain
+    itself rarely meets it.
 
     The convex stage is, by default (``method='auto'``), the n-state
     Luenberger LMI embedded as ``K_i = L0``, ``L_i = 0``: it has the same γ

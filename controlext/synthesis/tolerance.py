@@ -81,7 +81,7 @@ def robust_default(options, region):
 
 
 def tolerant(synthesise, problem, region, options, convex, bound, floor,
-             check, single=None):
+             check, rivals=()):
     """The nominal-first road of a gain tolerance: ``(done, starts,
     repair, candidates)``.
 
@@ -91,8 +91,9 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
     ``repair`` says that it should start from these alone (no random
     starts), and ``candidates`` ``[(G, label)]`` are verified designs it
     must beat.  ``synthesise`` is the pipeline's, ``check`` verifies a
-    gain under the tolerance, and ``single`` is the one-copy design
-    ``(G, report)`` of a problem of copies.
+    gain under the tolerance, and ``rivals`` ``[(G, label)]`` are designs
+    of fewer copies grown to these (the one-copy design, ``N − 1``
+    copies), which a repaired design returned early must beat.
     """
     criteria = options.criteria
     try:
@@ -121,11 +122,10 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
     if fast is not None:
         if criteria.value(fast[1]) <= (1 + REPAIR_COST) * \
                 criteria.value(nominal):
-            if single is not None:
-                # copies are never worse than one (the repair may end up
-                # to REPAIR_COST above the nominal optimum of copies)
-                fast = _better(fast, problem.embed(single[0]), check,
-                               criteria, convex)
+            # copies are never worse than fewer (the repair may end up
+            # to REPAIR_COST above the nominal optimum of copies)
+            for G, label in rivals:
+                fast = _better(fast, G, label, check, criteria, convex)
             return fast, [], False, []
         kept = [(fast[0], 'repaired')]
     try:
@@ -170,13 +170,13 @@ def _repaired(problem, region, options, convex, bound, floor, check, Gn,
     return res.G, report
 
 
-def _better(design, G, check, criteria, convex):
+def _better(design, G, label, check, criteria, convex):
     """``design`` or ``(G, report)``, whichever verifies with the lower
     value (``design`` when equal); ``design``'s method and statistics go
-    to ``G``'s report."""
+    to ``G``'s report, whose stage is ``label``."""
     like = design[1]
     try:
-        report = check(G, method=like.method, stage='luenberger',
+        report = check(G, method=like.method, stage=label,
                        convex=convex, stats=like.stats)
     except VerificationError:
         return design
