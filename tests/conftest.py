@@ -88,3 +88,26 @@ def grid_hinf(A, B, C, dt=0, points=4000):
     best = minimize_scalar(lambda x: -gain(x), bounds=(lo, hi),
                            method='bounded', options={'xatol': 1e-12})
     return max(vals[k], -best.fun)
+
+
+def rounded(G, digits=6):
+    return np.vectorize(lambda x: float(f"{x:.{digits - 1}e}"))(G)
+
+
+def worst_pole(obs, G):
+    """The slowest error pole's real part (continuous time) or modulus
+    (discrete time) of gain ``G``, from the problem's matrices."""
+    p = obs.problem
+    eigs = np.linalg.eigvals(p.Ae - G @ p.Ce)
+    return float(np.max(np.abs(eigs) if p.dt else eigs.real))
+
+
+def keeps(obs, edge, seed=0, draws=200):
+    """6-digit rounding and ``draws`` random relative errors of 1e-6 in
+    every entry keep the slowest pole inside ``edge``."""
+    G = obs.G
+    assert worst_pole(obs, rounded(G)) <= edge
+    rng = np.random.default_rng(seed)
+    worst = max(worst_pole(obs, G * (1 + 1e-6 * rng.uniform(-1, 1, G.shape)))
+                for _ in range(draws))
+    assert worst <= edge

@@ -7,7 +7,7 @@ import control as ct
 from hypothesis import given, settings, HealthCheck, strategies as st
 
 import controlext as cx
-from conftest import error_system, grid_hinf
+from conftest import error_system, grid_hinf, keeps
 
 BIAS = 0.3
 PAIR_33 = (1.7896, 2.2278, 0.0538, -1.1633)     # (k1, k2, l1, l2), Sec. IV-A
@@ -345,3 +345,8 @@ def test_three_copies_never_worse_than_two():
     assert three.decay >= 0.5 - 1e-6
     err = ct.ss(three.A, three.B, three.C, three.D)
     assert ct.linfnorm(err)[0] <= two.hinf * (1 + 1e-3)
+    # under the default gain tolerance the pair grown to three copies is
+    # refined under it (grown as it is, it keeps the region under errors
+    # of 3.7e-7 only): the design returned keeps the decay when its gain
+    # is rounded to 6 digits and under 200 relative errors of 1e-6
+    keeps(three, -0.5)

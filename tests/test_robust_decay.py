@@ -13,34 +13,12 @@ import pytest
 
 import controlext as cx
 from controlext.exceptions import GainWarning
+from conftest import keeps, rounded, worst_pole
 from plants import PUBLIC, noise_model
 
 SCALAR = ct.ss([[-0.5]], [[1.0]], [[1.0]], 0)
 SECOND = ct.ss([[-1.0, 1.0], [-1.0, 0.0]], [[0.0], [1.0]], [[1.0, 2.0]], 0)
 B747 = PUBLIC['747 lateral']         # two sensors, two inputs
-
-
-def rounded(G, digits=6):
-    return np.vectorize(lambda x: float(f"{x:.{digits - 1}e}"))(G)
-
-
-def worst_pole(obs, G):
-    """The slowest error pole's real part (continuous time) or modulus
-    (discrete time) of gain ``G``, from the problem's matrices."""
-    p = obs.problem
-    eigs = np.linalg.eigvals(p.Ae - G @ p.Ce)
-    return float(np.max(np.abs(eigs) if p.dt else eigs.real))
-
-
-def keeps(obs, edge, seed=0, draws=200):
-    """6-digit rounding and ``draws`` random relative errors of 1e-6 in
-    every entry keep the slowest pole inside ``edge``."""
-    G = obs.G
-    assert worst_pole(obs, rounded(G)) <= edge
-    rng = np.random.default_rng(seed)
-    worst = max(worst_pole(obs, G * (1 + 1e-6 * rng.uniform(-1, 1, G.shape)))
-                for _ in range(draws))
-    assert worst <= edge
 
 
 @pytest.mark.parametrize('plant, decay, copies, published', [
