@@ -51,8 +51,8 @@ from .memo import memoised, one_design
 from .lmi import check_lmi_memory, common_certificate
 from .models import conflicts
 from .verify import verify_design
-from .tolerance import (GAIN_TOLERANCE, NOMINAL, TOLERANCE_TOP,
-                        robust_default, tolerant)
+from .tolerance import GAIN_TOLERANCE, NOMINAL, robust_default, tolerant
+from .copies import fewer_copies, one_copy
 
 __all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem']
 
@@ -208,37 +208,6 @@ def _polytope(problem, G, region, options, report):
     return level
 
 
-def _one_copy(problem, region, options, convex, bound, floor):
-    """The one-copy design ``(G, report)`` of a problem of copies, a
-    start for them (without the limits where no one-copy design meets
-    them)."""
-    single = options if options.method != 'lmi' else \
-        options.replace(method='auto')
-    one_bound = _first_rows(bound, problem.n)
-    try:
-        return synthesise(problem.single(), region, single,
-                          convex=convex.luenberger, bound=one_bound,
-                          floor=floor)
-    except VerificationError:
-        if not (options.criteria.limits or options.criteria.bounds):
-            raise
-        # no one-copy design meets the limits or the norm bounds (copies
-        # may: on the second-order plant at decay 1 the best one copy has
-        # H2 0.273, the best pair 0.0545): the one without them is still
-        # a start for the copies
-        return synthesise(problem.single(), region, single.replace(
-            settling_time=None, gain_tolerance=None, max_hinf=None,
-            max_h2=None), convex=convex.luenberger, bound=one_bound,
-            floor=floor)
-
-
-def _first_rows(bound, rows):
-    """The :class:`~controlext.synthesis.conditioning.GainBound` of the
-    problem whose gain is the first ``rows`` rows (fewer copies; None
-    stays None)."""
-    return None if bound is None else bound.rows(rows)
-
-
 def check_problem(problem, region, what='plant'):
     """Refuse a problem no gain can solve: an unstable mode unobservable
     from the measurements, or an unobservable mode outside the region (of
@@ -388,8 +357,8 @@ def synthesise(problem, region, options, convex=None, check=None,
         starts += _bounded_starts(problem, region, options, bound)
     if problem.copies > 1:
         if single is None:
-            single = _one_copy(problem, region, options, convex, bound,
-                               floor)
+            single = one_copy(synthesise, problem, region, options,
+                              convex, bound, floor)
         G1, rep1 = single
         stats.update(luenberger_hinf=rep1.hinf)
         one = criteria.value(rep1)
@@ -414,8 +383,8 @@ def synthesise(problem, region, options, convex=None, check=None,
         fewer.append((problem.embed(single[0]), 'luenberger'))
         if problem.copies > 2 and np.allclose(problem.weights,
                                               1 / problem.copies):
-            fewer += _fewer_copies(problem, region, options, convex, bound,
-                                   floor, single)
+            fewer += fewer_copies(synthesise, problem, region, options,
+                                  convex, bound, floor, single)
     tolerance = criteria.gain_tolerance
     refine_options = options.refine_options
     repair = False
@@ -498,58 +467,6 @@ def _looser_start(problem, region, options, convex, bound, floor):
     except (VerificationError, SolverError):
         return []
     return [(f'max_gain={looser.level:.3g}', Gl)]
-
-
-def _fewer_copies(problem, region, options, convex, bound, floor, single):
-    """``[(G, label)]``: the best design of ``N − 1`` copies grown to
-    ``N`` (the last tracking their average), a candidate so that more
-    copies are never worse (quadruple tank, N = 3: 1.614 against 1.595
-    for N = 2 without it).  Not a start: it leads the polishing race
-    early and ends in a worse basin (scalar plant N = 6 up to 1.56x the
-    best filter, second order N = 3 up to 4.6x).
-
-    The last copy's deviation gets no noise, so its gain changes no norm,
-    only the poles it adds.  Under a gain tolerance the ``N − 1`` design
-    is at its tolerance's limit and the grown gain has more entries, so
-    the grown design rarely meets it: it is grown with the one-copy
-    design and with that of the loose tolerance :data:`TOLERANCE_TOP`
-    (poles away from the edge), and refined under the tolerance from
-    both (quadruple tank, N = 3: the grown designs keep the region under
-    gain errors of 3.7e-7 and 8.0e-7 only; refined, 1.4806 against 1.5208
-    for N = 2, where the three-copy design had been 1.5537)."""
-    fewer = problem.replace(copies=problem.copies - 1)
-    try:
-        Gf, _ = synthesise(fewer, region, options,
-                           bound=_first_rows(bound, fewer.copies * problem.n),
-                           floor=floor, single=single)
-    except (VerificationError, SolverError):
-        return []
-    label = f'{fewer.copies} copies'
-    grown = [(problem.grow(Gf, single[0]), label)]
-    tolerance = options.criteria.gain_tolerance
-    if tolerance and tolerance < TOLERANCE_TOP:
-        try:
-            L, _ = _one_copy(problem, region, options.replace(
-                gain_tolerance=TOLERANCE_TOP), convex, bound, floor)
-        except (VerificationError, SolverError):
-            pass
-        else:
-            grown.append((problem.grow(Gf, L), f'{label}, robust tracker'))
-        try:
-            res = refine_gain(problem, region, [(lab, G) for G, lab in grown],
-                              options=replace(options.refine_options,
-                                              random_starts=0),
-                              seed=options.seed, executor=options.executor,
-                              gain_bound=None if bound is None else
-                              bound.level,
-                              gain_weights=None if bound is None else
-                              bound.weights,
-                              floor=floor, criteria=options.criteria)
-        except VerificationError:
-            pass
-        else:
-            grown.append((res.G, f'{label}, repaired'))
-    return grown
 
 
 def _judge(check, convex, candidates, method, stats):
