@@ -84,7 +84,7 @@ def filter_floor(problem: ObserverProblem, solver: str | None = None,
     # nothing
     tries: list[dict[str, float]] = [{}]
     if noisy and (solver is None or str(solver).upper() == 'CLARABEL'):
-        tries.append(LOOSER)
+        tries += LOOSER
     for options in tries:
         try:
             sol = solve_observer_lmi(one, None, margin=1.0, solver=solver,
@@ -100,9 +100,12 @@ def filter_floor(problem: ObserverProblem, solver: str | None = None,
     return None
 
 
-#: clarabel's tolerances for a floor whose LMI ended 'optimal_inaccurate'
-#: at its defaults (1e-8), as it does on about one random discrete plant
-#: with noisy sensors in ten: at 1e-7 it ends 'optimal' on most of them
-#: (14 of 19), at most 1.2e-4 above the level a Riccati gain reaches,
-#: well inside the 0.1 % the floor is used with
-LOOSER = {'tol_gap_abs': 1e-7, 'tol_gap_rel': 1e-7, 'tol_feas': 1e-7}
+#: clarabel's tolerances, loosest last, for a floor whose LMI ended
+#: 'optimal_inaccurate' at its defaults (1e-8), as it does on about one
+#: random discrete plant with noisy sensors in ten: at 1e-7 it ends
+#: 'optimal' on most of them (14 of 19), at most 1.2e-4 above the level a
+#: Riccati gain reaches, well inside the 0.1 % the floor is used with;
+#: clarabel 0.9 (the declared lower bound) needs 1e-6 on the discrete
+#: plant of tests/test_tradeoff.py, and ends 3.6e-5 above its level
+LOOSER = ({'tol_gap_abs': 1e-7, 'tol_gap_rel': 1e-7, 'tol_feas': 1e-7},
+          {'tol_gap_abs': 1e-6, 'tol_gap_rel': 1e-6, 'tol_feas': 1e-6})
