@@ -25,10 +25,8 @@ The grown gain has the norms of the ``N − 1``-copy gain it came from:
 True
 """
 
-from dataclasses import replace
-
 from ..exceptions import SolverError, VerificationError
-from .refine import refine_gain
+from .refine import refine_design
 from .tolerance import TOLERANCE_TOP
 
 __all__ = ['one_copy', 'first_rows', 'fewer_copies']
@@ -102,15 +100,9 @@ def fewer_copies(synthesise, problem, region, options, convex, bound,
         else:
             grown.append((problem.grow(Gf, L), f'{label}, robust tracker'))
         try:
-            res = refine_gain(problem, region, [(lab, G) for G, lab in grown],
-                              options=replace(options.refine_options,
-                                              random_starts=0),
-                              seed=options.seed, executor=options.executor,
-                              gain_bound=None if bound is None else
-                              bound.level,
-                              gain_weights=None if bound is None else
-                              bound.weights,
-                              floor=floor, criteria=options.criteria)
+            res = refine_design(problem, region,
+                                [(lab, G) for G, lab in grown], options,
+                                bound, floor, random_starts=0)
         except VerificationError:
             pass
         else:

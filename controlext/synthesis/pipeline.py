@@ -27,7 +27,6 @@ Examples
 """
 
 import time
-from dataclasses import replace
 
 import numpy as np
 
@@ -40,7 +39,7 @@ from ..exceptions import (GainWarning, ParameterError,
                           RegionError, SolverError, VerificationError)
 from .criteria import NAMES
 from .convex import convex_stage
-from .refine import refine_gain
+from .refine import refine_design
 from .records import DesignStats, RefineSummary
 from .regions import region_for
 from .limits import limits_of
@@ -386,7 +385,6 @@ def synthesise(problem, region, options, convex=None, check=None,
             fewer += fewer_copies(synthesise, problem, region, options,
                                   convex, bound, floor, single)
     tolerance = criteria.gain_tolerance
-    refine_options = options.refine_options
     repair = False
     if tolerance:
         done, extra, repair, kept = tolerant(
@@ -395,12 +393,6 @@ def synthesise(problem, region, options, convex=None, check=None,
         if done is not None:
             return done
         starts += extra
-        if repair:
-            # the nominal optimum and the design of the loosest tolerance
-            # are the starts: the first is where the norm is least, the
-            # second has split the nominal optimum's pole clusters
-            # (benchmarks/robust_decay.py measures what it costs)
-            refine_options = replace(refine_options, random_starts=0)
     if not repair and bound is not None and not within:
         starts += _looser_start(problem, region, options, convex, bound,
                                 floor)
@@ -412,14 +404,14 @@ def synthesise(problem, region, options, convex=None, check=None,
         else:
             starts.append(fewer[0][::-1])
         grown += fewer[1:]
+    # a repair starts from the nominal optimum and the design of the
+    # loosest tolerance alone: the first is where the norm is least, the
+    # second has split the nominal optimum's pole clusters
+    # (benchmarks/robust_decay.py measures what it costs)
     try:
-        res = refine_gain(problem, region, starts[1:] if repair else starts,
-                          options=refine_options, seed=options.seed,
-                          executor=options.executor,
-                          gain_bound=None if bound is None else bound.level,
-                          gain_weights=None if bound is None else
-                          bound.weights,
-                          floor=floor, criteria=criteria)
+        res = refine_design(problem, region,
+                            starts[1:] if repair else starts, options,
+                            bound, floor, random_starts=0 if repair else None)
     except VerificationError as exc:
         # the convex design is verified already: keep it, say why
         stats['refine'] = RefineSummary(failed=str(exc))

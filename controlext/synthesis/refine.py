@@ -34,7 +34,7 @@ Examples
 True
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 import time
 
 import numpy as np
@@ -49,7 +49,7 @@ from .rates import REGION_TOL
 from .records import RefineSummary
 from .stationary import Stationarity, stationarity
 
-__all__ = ['RefineResult', 'refine_gain']
+__all__ = ['RefineResult', 'refine_gain', 'refine_design']
 
 @dataclass
 class RefineResult:
@@ -381,3 +381,23 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
                         evaluations=evaluations + test.samples,
                         time=time.perf_counter() - t0, phases=phases,
                         stationary=test)
+
+
+def refine_design(problem, region, starts, options, bound, floor, *,
+                  refine_options=None, random_starts=None):
+    """:func:`refine_gain` as the synthesis calls it: the seed, executor
+    and criteria of the :class:`~controlext.synthesis.SynthesisOptions`
+    ``options``, the gain bound ``bound``
+    (:class:`~controlext.synthesis.conditioning.GainBound` or None) and
+    the ``floor``; ``refine_options`` (default ``options.refine_options``)
+    with ``random_starts`` when given."""
+    opts = options.refine_options if refine_options is None else \
+        refine_options
+    if random_starts is not None:
+        opts = replace(opts, random_starts=random_starts)
+    return refine_gain(problem, region, starts, options=opts,
+                       seed=options.seed, executor=options.executor,
+                       gain_bound=None if bound is None else bound.level,
+                       gain_weights=None if bound is None else
+                       bound.weights,
+                       floor=floor, criteria=options.criteria)

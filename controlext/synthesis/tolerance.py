@@ -39,13 +39,11 @@ True
 True
 """
 
-from dataclasses import replace
-
 import numpy as np
 
 from ..exceptions import ArgumentError, SolverError, VerificationError
 from .limits import edges_of
-from .refine import refine_gain
+from .refine import refine_design
 
 __all__ = ['GAIN_TOLERANCE', 'robust_default', 'tolerant']
 
@@ -148,14 +146,8 @@ def _repaired(problem, region, options, convex, bound, floor, check, Gn,
         (f'{NOMINAL} split {size:g}',
          Gn * (1 + size * rng.standard_normal(Gn.shape))) for size in SPLIT]
     try:
-        res = refine_gain(problem, region, starts,
-                          options=replace(options.refine_options,
-                                          random_starts=0),
-                          seed=options.seed, executor=options.executor,
-                          gain_bound=None if bound is None else bound.level,
-                          gain_weights=None if bound is None else
-                          bound.weights,
-                          floor=floor, criteria=criteria)
+        res = refine_design(problem, region, starts, options, bound, floor,
+                            random_starts=0)
     except VerificationError:
         return None
     stats = nominal.stats.replace(
