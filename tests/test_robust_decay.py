@@ -190,3 +190,41 @@ def test_repaired_nominal_optimum_on_a_public_plant():
                                  p.Cze, 0))[0]
     assert norm(nominal) * (1 - 1e-6) <= norm(obs) <= \
         1.005 * norm(nominal)
+
+
+def test_nominal_optimum_meeting_the_tolerance_meets_fewer_copies_too():
+    """The tolerance road's first exit (the nominal optimum keeps its
+    region under the tolerance) still compares it with the designs of
+    fewer copies: a nominal search that stopped short, stood in for by
+    both copies at four times the one-copy gain (poles at −8.5, far
+    inside), loses to the one-copy design embedded.  The norms are
+    rebuilt from the gains with ``ct.linfnorm``."""
+    from controlext.synthesis import SynthesisOptions
+    from controlext.synthesis.tolerance import tolerant
+    from controlext.synthesis.verify import verify_design
+    one = cx.hinf_observer(SCALAR, decay=2.5)
+    problem = cx.coupled_observer(SCALAR, decay=2.5, refine=False).problem
+    region = cx.HalfPlane(2.5)
+    options = SynthesisOptions(gain_tolerance=1e-6)
+    short = problem.embed(4 * one.G)
+    embedded = problem.embed(one.G)
+
+    def norm(G):
+        p = problem
+        return ct.linfnorm(ct.ss(p.Ae - G @ p.Ce, p.Bwe - G @ p.Dwe, p.Cze,
+                                 0))[0]
+
+    def synthesise(p, r, o, **facts):
+        return short, verify_design(p, short, r)
+
+    def check(G, **facts):
+        return verify_design(problem, G, region, criteria=options.criteria,
+                             **facts)
+
+    done, _, _, _ = tolerant(synthesise, problem, region, options, None,
+                             None, None, check, [(embedded, 'luenberger')])
+    G, report = done
+    assert norm(embedded) < norm(short) - 0.1       # 0.8 against 0.94
+    np.testing.assert_array_equal(G, embedded)
+    assert report.stage == 'luenberger'
+    assert abs(report.hinf - norm(embedded)) <= 1e-6 * norm(embedded)
