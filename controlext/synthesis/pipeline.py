@@ -27,6 +27,7 @@ Examples
 """
 
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -50,6 +51,7 @@ from .memo import memoised, one_design
 from .lmi import check_lmi_memory, common_certificate
 from .models import conflicts
 from .verify import verify_design
+from .judge import Judge, equal, rank
 from .tolerance import GAIN_TOLERANCE, NOMINAL, robust_default, tolerant
 from .copies import fewer_copies, one_copy
 
@@ -131,7 +133,7 @@ def _design(cls, problem, options, decay, region, system, what):
     # the trade-off reports the H∞ floor γ∞*, whatever was minimised
     floor = report.stats.get('floor_level', _no_floor) \
         if criteria.objective == 'hinf' else floors.get('hinf', _no_floor)
-    if report.hinf <= _equal(0.0, problem):
+    if report.hinf <= equal(0.0, problem):
         floor = 0.0 if floor is _no_floor else floor     # 0 <= floor <= γ
     if floor is _no_floor:
         floor = filter_floor(problem, options.solver,
@@ -283,27 +285,93 @@ def synthesise(problem, region, options, convex=None, check=None,
         def check(G, **info):
             return verify_design(problem, G, region, criteria=criteria,
                                  **info)
-    verify = check
-    over_bound = []             # candidates the gain bound refused
-
-    def check(G, **info):
-        if bound is not None:
-            norm = bound.norm(G)
-            if not bound.meets(norm):
-                over_bound.append(norm)
-                raise VerificationError(
-                    f"the {info.get('stage', 'convex')} design's gain norm "
-                    f"{norm:.6g} exceeds max_gain = {bound.level:.6g}")
-        return verify(G, **info)
-
+    judge = Judge(check, bound)
     if convex is None:
         convex = convex_stage(problem, region, options)
+    done, best, within = _convex_design(problem, region, options, convex,
+                                        judge)
+    if done is not None:
+        return done
+    stats = DesignStats.of(convex.stats)
+    if floor is None:
+        floor = filter_floor(problem, options.solver,
+                             max_states=options.lmi_max_states,
+                             criterion=criteria.objective)
+    stats.update(floor_level=floor)
+    if best is not None and within and floor is not None and \
+            criteria.value(best) <= floor + equal(floor, problem):
+        # the convex design is at the level no observer of any structure
+        # can beat: refinement has nothing to gain
+        best.stats = stats.replace(headroom=(
+            f"the convex design reaches the unconstrained filter level "
+            f"{floor:.6g} of the {NAMES[criteria.objective]} "
+            f"({criteria.value(best):.6g}): no observer of any structure "
+            "or order can do better, so it was not refined"))
+        return convex.G, best
+    ladder = Ladder([(convex.stage, convex.G)])
+    if best is None and criteria.bounds:
+        ladder.starts += _bounded_starts(problem, region, options, bound)
+    if problem.copies > 1:
+        done = _copies_ladder(ladder, problem, region, options, convex,
+                              judge, floor, single, stats)
+        if done is not None:
+            return done
+    if criteria.gain_tolerance:
+        done, extra, ladder.repair, ladder.kept = tolerant(
+            synthesise, problem, region, options, convex, bound, floor,
+            judge, ladder.fewer)
+        if done is not None:
+            return done
+        ladder.starts += extra
+    if not ladder.repair and bound is not None and not within:
+        ladder.starts += _looser_start(problem, region, options, convex,
+                                       bound, floor)
+    candidates = _refined(ladder, problem, region, options, bound, floor,
+                          stats)
+    method = f'{convex.method}+refine'
+    verified = judge.verified(convex, candidates, method, stats)
+    if not verified:
+        raise judge.refusal(stats, convex)
+    return rank(verified, criteria, problem, method, stats)
+
+
+@dataclass
+class Ladder:
+    """The starts and candidates of one design's refinement.
+
+    Attributes
+    ----------
+    starts : list of (str, ndarray)
+        Labelled refinement starts; the first is the convex design.
+    fewer : list of (ndarray, str)
+        Designs of fewer copies grown to these: the one-copy design
+        embedded (a start, or a candidate under a repair) and those of
+        ``N − 1`` copies (candidates).
+    kept : list of (ndarray, str)
+        Verified designs the refinement must beat (the tolerance's
+        repair).
+    repair : bool
+        Refinement starts from the given starts alone: not the convex
+        design, no random starts (the tolerance's repair).
+    """
+    starts: list
+    fewer: list = field(default_factory=list)
+    kept: list = field(default_factory=list)
+    repair: bool = False
+
+
+def _convex_design(problem, region, options, convex, judge):
+    """``(done, best, within)``: the convex design's report ``best`` (None
+    where it misses the limits), whether it is ``within`` the gain bound,
+    and ``done`` ``(G, report)`` where the convex design is the design:
+    no refinement asked for or needed, or a norm of 0."""
+    criteria, bound = options.criteria, judge.bound
     best = convex.report
     if best is not None and criteria.limits:
         # the convex stage does not hold the limits: its design is returned
         # only if it meets them, and is a start in any case
         try:
-            best = check(convex.G, convex=convex,
+            best = judge(convex.G, convex=convex,
                          gamma_bound=convex.gamma_bound)
         except VerificationError as exc:
             if not options.refine:
@@ -318,100 +386,84 @@ def synthesise(problem, region, options, convex=None, check=None,
     if best is not None and not (options.refine and (
             needs_refinement(problem, region) or not within or
             convex.gamma_bound is None)):
-        if not within and bound is not None:
+        if not within:
             # the convex stage does not hold the bound; refinement does
             warn(f"the convex design's gain norm exceeds the bound "
                  f"{bound.level:.6g} (refine=False returns it as it is)",
                  GainWarning)
-            return convex.G, verify(convex.G, convex=convex,
-                                    gamma_bound=convex.gamma_bound)
-        return convex.G, check(convex.G, convex=convex,
-                               gamma_bound=convex.gamma_bound)
-    if best is not None and criteria.value(best) <= _equal(0.0, problem):
+            return (convex.G, judge.verify(
+                convex.G, convex=convex,
+                gamma_bound=convex.gamma_bound)), best, within
+        return (convex.G, judge(convex.G, convex=convex,
+                                gamma_bound=convex.gamma_bound)), \
+            best, within
+    if best is not None and criteria.value(best) <= equal(0.0, problem):
         # 0 is the least any design can have, and no design counts as
-        # better than one this close to it (see the ranking below)
+        # better than one this close to it (see the ranking)
         best.stats = best.stats.replace(
             floor='the convex design has a norm of 0 to the ranking '
             'tolerance: nothing to refine')
-        return convex.G, best
-    starts = [(convex.stage, convex.G)]
-    stats = DesignStats.of(convex.stats)
-    if floor is None:
-        floor = filter_floor(problem, options.solver,
-                             max_states=options.lmi_max_states,
-                             criterion=criteria.objective)
-    stats.update(floor_level=floor)
-    what = NAMES[criteria.objective]
-    if best is not None and within and floor is not None and \
-            criteria.value(best) <= floor + _equal(floor, problem):
-        # the convex design is at the level no observer of any structure
-        # can beat: refinement has nothing to gain
-        best.stats = stats.replace(headroom=(
-            f"the convex design reaches the unconstrained filter level "
-            f"{floor:.6g} of the {what} ({criteria.value(best):.6g}): no "
-            "observer of any structure or order can do better, so it was "
-            "not refined"))
-        return convex.G, best
-    if best is None and criteria.bounds:
-        starts += _bounded_starts(problem, region, options, bound)
-    if problem.copies > 1:
-        if single is None:
-            single = one_copy(synthesise, problem, region, options,
-                              convex, bound, floor)
-        G1, rep1 = single
-        stats.update(luenberger_hinf=rep1.hinf)
-        one = criteria.value(rep1)
-        if floor is not None and one <= floor + _equal(floor, problem):
-            # headroom: the one-copy design is at the level no observer
-            # of any structure can beat; copies cannot improve on it
-            stats['headroom'] = (
-                f"the one-copy design reaches the unconstrained filter "
-                f"level {floor:.6g} of the {what} ({one:.6g}): no "
-                "observer of any structure or order can do better, so the "
-                "copies were not refined")
-            try:
-                report = check(problem.embed(G1), method=f'{convex.method}'
-                               '+headroom', stage='luenberger',
-                               convex=convex, stats=stats)
-            except VerificationError:
-                del stats['headroom']
-            else:
-                return problem.embed(G1), report
-    fewer = []                  # designs of fewer copies grown to these
-    if problem.copies > 1:
-        fewer.append((problem.embed(single[0]), 'luenberger'))
-        if problem.copies > 2 and np.allclose(problem.weights,
-                                              1 / problem.copies):
-            fewer += fewer_copies(synthesise, problem, region, options,
-                                  convex, bound, floor, single)
-    tolerance = criteria.gain_tolerance
-    repair = False
-    if tolerance:
-        done, extra, repair, kept = tolerant(
-            synthesise, problem, region, options, convex, bound, floor,
-            check, fewer)
-        if done is not None:
-            return done
-        starts += extra
-    if not repair and bound is not None and not within:
-        starts += _looser_start(problem, region, options, convex, bound,
-                                floor)
-    grown = kept if tolerance else []
-    if fewer:
-        if repair:
-            # a candidate, not a start: copies are never worse than one
-            grown.append(fewer[0])
+        return (convex.G, best), best, within
+    return None, best, within
+
+
+def _copies_ladder(ladder, problem, region, options, convex, judge, floor,
+                   single, stats):
+    """The designs of fewer copies into ``ladder.fewer``; ``(G, report)``
+    where the one-copy design is at the filter level (no copies can beat
+    it), else None."""
+    criteria, bound = options.criteria, judge.bound
+    if single is None:
+        single = one_copy(synthesise, problem, region, options, convex,
+                          bound, floor)
+    G1, rep1 = single
+    stats.update(luenberger_hinf=rep1.hinf)
+    one = criteria.value(rep1)
+    if floor is not None and one <= floor + equal(floor, problem):
+        # headroom: the one-copy design is at the level no observer of
+        # any structure can beat; copies cannot improve on it
+        stats['headroom'] = (
+            f"the one-copy design reaches the unconstrained filter level "
+            f"{floor:.6g} of the {NAMES[criteria.objective]} ({one:.6g}): "
+            "no observer of any structure or order can do better, so the "
+            "copies were not refined")
+        try:
+            report = judge(problem.embed(G1), method=f'{convex.method}'
+                           '+headroom', stage='luenberger', convex=convex,
+                           stats=stats)
+        except VerificationError:
+            del stats['headroom']
         else:
-            starts.append(fewer[0][::-1])
-        grown += fewer[1:]
+            return problem.embed(G1), report
+    ladder.fewer.append((problem.embed(G1), 'luenberger'))
+    if problem.copies > 2 and np.allclose(problem.weights,
+                                          1 / problem.copies):
+        ladder.fewer += fewer_copies(synthesise, problem, region, options,
+                                     convex, bound, floor, single)
+    return None
+
+
+def _refined(ladder, problem, region, options, bound, floor, stats):
+    """Refine from the ``ladder``'s starts: ``[(G, stage)]``, the refined
+    design (where refinement succeeded; ``stats['refine']`` says how it
+    went) and every other candidate of the ladder."""
+    starts, grown = list(ladder.starts), list(ladder.kept)
+    if ladder.fewer:
+        if ladder.repair:
+            # a candidate, not a start: copies are never worse than one
+            grown.append(ladder.fewer[0])
+        else:
+            starts.append(ladder.fewer[0][::-1])
+        grown += ladder.fewer[1:]
     # a repair starts from the nominal optimum and the design of the
     # loosest tolerance alone: the first is where the norm is least, the
     # second has split the nominal optimum's pole clusters
     # (benchmarks/robust_decay.py measures what it costs)
     try:
         res = refine_design(problem, region,
-                            starts[1:] if repair else starts, options,
-                            bound, floor, random_starts=0 if repair else None)
+                            starts[1:] if ladder.repair else starts,
+                            options, bound, floor,
+                            random_starts=0 if ladder.repair else None)
     except VerificationError as exc:
         # the convex design is verified already: keep it, say why
         stats['refine'] = RefineSummary(failed=str(exc))
@@ -420,13 +472,8 @@ def synthesise(problem, region, options, convex=None, check=None,
         stats['refine'] = res.summary()
         candidates = [(res.G, 'refined')]
     # (the nominal optimum is a start only when it misses the tolerance)
-    candidates += [(G, label) for label, G in starts[1:]
-                   if label != NOMINAL] + grown
-    method = f'{convex.method}+refine'
-    verified = _judge(check, convex, candidates, method, stats)
-    if not verified:
-        raise _refusal(stats, convex, bound, over_bound)
-    return _rank(verified, criteria, problem, method, stats)
+    return candidates + [(G, label) for label, G in starts[1:]
+                         if label != NOMINAL] + grown
 
 
 def _bounded_starts(problem, region, options, bound):
@@ -461,71 +508,10 @@ def _looser_start(problem, region, options, convex, bound, floor):
     return [(f'max_gain={looser.level:.3g}', Gl)]
 
 
-def _judge(check, convex, candidates, method, stats):
-    """``[(report, G)]``: the convex design and the ``candidates``
-    ``[(G, stage)]`` that ``check`` verifies; the stages it refuses, and
-    why, go to ``stats['refused']``."""
-    verified, refused = [], []
-    for Gc, stage, facts in [(convex.G, convex.stage, dict(
-            convex=convex, gamma_bound=convex.gamma_bound))] + [
-            (Gc, stage, dict(method=method, stage=stage, convex=convex,
-                             stats=stats)) for Gc, stage in candidates]:
-        try:
-            verified.append((check(Gc, **facts), Gc))
-        except VerificationError as exc:
-            refused.append((stage, str(exc)))
-    if refused:
-        stats['refused'] = refused
-    return verified
-
-
-def _refusal(stats, convex, bound, over_bound):
-    """The error when no candidate verified, naming every step that
-    failed; its ``bounded`` says whether the gain bound refused a
-    candidate or held refinement back (a retry without it may find a
-    design)."""
-    failed = None if stats.refine is None else stats.refine.failed
-    steps = [f"{stage}: {why}" for stage, why in stats.refused or []]
-    if failed is not None:
-        steps.append(f"refinement: {failed}")
-    steps += [f"{name}: {why}" for name, why in
-              convex.stats.get('fallback', [])]
-    refusal = VerificationError(
-        "no candidate design verified (" + "; ".join(steps) + "); try "
-        "a looser region or a larger margin=" +
-        ("" if bound is None else " or max_gain="))
-    refusal.bounded = bound is not None and (
-        bool(over_bound) or failed is not None)
-    return refusal
-
-
-def _rank(verified, criteria, problem, method, stats):
-    """``(G, report)`` of the verified design of smallest true norm;
-    designs equal to within :func:`_equal` are ranked by gain norm (when
-    γ* is not attained, or is 0, the last bits of γ cost unbounded
-    gains).  Its report gets ``method`` and ``stats``."""
-    lowest = min(criteria.value(rep) for rep, _ in verified)
-    best, G = min(((rep, Gc) for rep, Gc in verified
-                   if criteria.value(rep) <= lowest + _equal(lowest,
-                                                             problem)),
-                  key=lambda item: np.linalg.norm(item[1], 2))
-    limits = best.stats.limits
-    best.method, best.stats = method, stats
-    if limits is not None:
-        best.stats = stats.replace(limits=limits)
-    return G, best
-
-
 _no_floor = object()
 #: a gain bound far below the convex design's gain starts from the design
 #: within this many times the bound
 GAIN_LADDER = 1.5
-
-
-def _equal(gamma, problem):
-    """How far above ``gamma`` a design still counts as equally good:
-    0.1 % relative, and an absolute floor for norms near 0."""
-    return max(1e-3 * gamma, 1e-4 * problem.noise_scale)
 
 
 #: a canonical state scaling spreading less than this is not applied
