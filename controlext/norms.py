@@ -155,7 +155,7 @@ def _norm(sys, tol):
         # larger (ab13dd was seen to miss a discrete system's peak by
         # 0.05 %, 974.899 at 64.1 rad/s against 975.346 at 48.65)
         try:
-            other, wother = _hinfnorm_fallback(sys, tol)
+            other, wother = _hinfnorm_fallback(sys, tol, near=fpeak)
         except (np.linalg.LinAlgError, ValueError):
             # a pole at z = -1 to rounding: no bilinear map; slycot stands
             other = -np.inf
@@ -272,7 +272,9 @@ def hinfnorm_matrices(A, B, C, D, dt=0, tol=1e-10, poles=None):
     return float(gamma), float(fpeak)
 
 
-def _hinfnorm_fallback(sys, tol=1e-10):
+def _hinfnorm_fallback(sys, tol=1e-10, near=None):
+    """The level-set norm ``(γ, peak frequency)``; ``near`` is the peak
+    frequency another algorithm found (see :func:`_levelset`)."""
     A, B, C, D = (np.asarray(M, dtype=float) for M in ct.ssdata(sys))
     with warnings.catch_warnings():
         # scipy's note on an ill-conditioned resolvent or bilinear map (a
@@ -283,9 +285,12 @@ def _hinfnorm_fallback(sys, tol=1e-10):
         if sys.isdtime():
             dt = 1.0 if sys.dt is True else float(sys.dt)
             A, B, C, D = _bilinear(A, B, C, D)
-            gamma, nu = _levelset(A, B, C, D, tol)
+            if near is not None:
+                # the bilinear image of the frequency: ν = tan(ω dt / 2)
+                near = np.tan(min(abs(near) * dt, np.pi) / 2)
+            gamma, nu = _levelset(A, B, C, D, tol, near=near)
             return gamma, 2 * np.arctan(nu) / dt
-        return _levelset(A, B, C, D, tol)
+        return _levelset(A, B, C, D, tol, near=near)
 
 
 def _attained(sys, gamma, *freqs):
@@ -361,11 +366,25 @@ def _resolvent_gain(A, B, C, D, s):
     return la.svdvals(G)[0] if G.size else 0.0
 
 
-def _levelset(A, B, C, D, tol=1e-10, maxiter=100):
-    """Bruinsma-Steinbuch level-set algorithm for a stable system."""
+def _levelset(A, B, C, D, tol=1e-10, maxiter=100, near=None):
+    """Bruinsma-Steinbuch level-set algorithm for a stable system.
+
+    ``near`` is the peak frequency another algorithm found (ab13dd, whose
+    value this one checks): where no gain is above the gain there (one
+    Hamiltonian test, at a level well above ``σmax(D)`` where the test is
+    well conditioned), that is the answer, without the grid and local
+    searches (verification 5x faster on the public plants' designs);
+    else the full search runs.
+    """
     n = A.shape[0]
     if n == 0:
         return (la.svdvals(D)[0] if D.size else 0.0), 0.0
+    dinf = la.svdvals(D)[0] if D.size else 0.0
+    if near is not None and np.isfinite(near):
+        top = _sigma_max(A, B, C, D, abs(near))
+        if top > 1.01 * dinf and \
+                _crossings(A, B, C, D, (1 + 2 * tol) * top).size == 0:
+            return top, abs(near)
     poles = la.eigvals(A)
     size = np.abs(poles[np.abs(poles) > 0])
     # the modes' frequencies and a coarse grid over their band: a start
@@ -388,24 +407,12 @@ def _levelset(A, B, C, D, tol=1e-10, maxiter=100):
                                                 cands[k + 1]))
     # the gain at infinite frequency is σmax(D) (the Nyquist frequency of
     # a discrete system under the bilinear map)
-    dinf = la.svdvals(D)[0] if D.size else 0.0
     if dinf > glb:
         glb, wpeak = dinf, np.inf
-    Dm = D.T @ D
     for _ in range(maxiter):
         if glb == 0:
             return 0.0, 0.0
-        g = (1 + 2 * tol) * glb
-        R = Dm - g**2 * np.eye(D.shape[1])
-        S = D @ D.T - g**2 * np.eye(D.shape[0])
-        Ri = la.inv(R)
-        H = np.block([[A - B @ Ri @ D.T @ C, -g * B @ Ri @ B.T],
-                      [g * C.T @ la.inv(S) @ C, -A.T + C.T @ D @ Ri @ B.T]])
-        ev = la.eigvals(H)
-        # imaginary-axis eigenvalues, judged relative to their own size
-        # (a crossing at high frequency has a larger rounding error)
-        ws = np.sort(ev.imag[(np.abs(ev.real) <= 1e-5 * np.maximum(
-            1.0, np.abs(ev))) & (ev.imag >= 0)])
+        ws = _crossings(A, B, C, D, (1 + 2 * tol) * glb)
         if ws.size == 0:
             return _polish(A, B, C, D, glb, wpeak)
         # the gain exceeds the level between crossings, and possibly
@@ -417,6 +424,22 @@ def _levelset(A, B, C, D, tol=1e-10, maxiter=100):
             return _polish(A, B, C, D, glb, wpeak)
         glb, wpeak = vals[k], mids[k]
     return _polish(A, B, C, D, glb, wpeak)
+
+
+def _crossings(A, B, C, D, g):
+    """The frequencies ``ω >= 0`` where a singular value of the
+    frequency response crosses the level ``g > σmax(D)`` (the Hamiltonian's
+    imaginary-axis eigenvalues), sorted."""
+    R = D.T @ D - g**2 * np.eye(D.shape[1])
+    S = D @ D.T - g**2 * np.eye(D.shape[0])
+    Ri = la.inv(R)
+    H = np.block([[A - B @ Ri @ D.T @ C, -g * B @ Ri @ B.T],
+                  [g * C.T @ la.inv(S) @ C, -A.T + C.T @ D @ Ri @ B.T]])
+    ev = la.eigvals(H)
+    # imaginary-axis eigenvalues, judged relative to their own size (a
+    # crossing at high frequency has a larger rounding error)
+    return np.sort(ev.imag[(np.abs(ev.real) <= 1e-5 * np.maximum(
+        1.0, np.abs(ev))) & (ev.imag >= 0)])
 
 
 def _bracket(A, B, C, D, lo, hi):
