@@ -92,6 +92,28 @@ def test_discrete_and_discrete_fallback(monkeypatch):
     assert w2 == pytest.approx(w, rel=1e-4)
 
 
+@pytest.mark.parametrize('dt', [0, 0.01], ids=['continuous', 'discrete'])
+def test_a_peak_ab13dd_missed_is_found(monkeypatch, dt):
+    """ab13dd's value is checked by the level set from ab13dd's own peak.
+    Told the lower of two resonances (decoupled, so the norm is the larger
+    one in closed form: ``1 / (2ζ √(1 − ζ²))`` = 10.0125 for ζ = 0.05 at
+    ω = 10 √(1 − 2ζ²)), the check finds the higher one."""
+    low = ct.tf([1], [1, 0.2, 1])                   # peak 5.0252 at 0.99
+    high = ct.tf([100], [1, 1.0, 100])              # peak 10.0125 at 9.975
+    sys = ct.ss(ct.append(ct.ss(low), ct.ss(high)))
+    if dt:
+        sys = ct.c2d(sys, dt)
+    monkeypatch.setattr(norms.ct, 'linfnorm',
+                        lambda *a, **k: (5.0252, 0.99))
+    gamma, w = norms.hinfnorm_quiet(sys)
+    zeta = 0.05
+    peak = 1 / (2 * zeta * np.sqrt(1 - zeta**2))
+    if dt:
+        peak = grid_peak(sys, 0.9, 1.1, 40001)      # zero-order hold
+    assert gamma == pytest.approx(peak, rel=1e-6)
+    assert w == pytest.approx(10 * np.sqrt(1 - 2 * zeta**2), rel=1e-2)
+
+
 @pytest.mark.parametrize('sys', [
     ct.tf([1], [1, -1]),
     ct.ss([[0.0]], [[1.0]], [[1.0]], 0),               # pole on the axis
