@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 import controlext as cx
-import controlext.synthesis.pipeline as pipeline
 import controlext.synthesis.polish as polish
 import controlext.synthesis.refine as refine
 from controlext.exceptions import VerificationError
@@ -22,7 +21,7 @@ def test_failed_refinement_keeps_the_convex_design(monkeypatch,
     def fail(*args, **kwargs):
         raise VerificationError("no gain with the error poles in the region")
 
-    monkeypatch.setattr(pipeline, 'refine_gain', fail)
+    monkeypatch.setattr(refine, 'refine_gain', fail)
     obs = cx.hinf_observer(second_order_plant, decay=1.0)
     assert obs.report.stage == 'lmi'
     assert 'no gain' in obs.report.stats['refine']['failed']

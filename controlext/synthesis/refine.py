@@ -384,15 +384,14 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
 
 
 def refine_design(problem, region, starts, options, bound, floor, *,
-                  refine_options=None, random_starts=None):
-    """:func:`refine_gain` as the synthesis calls it: the seed, executor
-    and criteria of the :class:`~controlext.synthesis.SynthesisOptions`
-    ``options``, the gain bound ``bound``
+                  random_starts=None):
+    """:func:`refine_gain` as the synthesis calls it: the refinement
+    options, seed, executor and criteria of the
+    :class:`~controlext.synthesis.SynthesisOptions` ``options`` (with
+    ``random_starts`` when given), the gain bound ``bound``
     (:class:`~controlext.synthesis.conditioning.GainBound` or None) and
-    the ``floor``; ``refine_options`` (default ``options.refine_options``)
-    with ``random_starts`` when given."""
-    opts = options.refine_options if refine_options is None else \
-        refine_options
+    the ``floor``."""
+    opts = options.refine_options
     if random_starts is not None:
         opts = replace(opts, random_starts=random_starts)
     return refine_gain(problem, region, starts, options=opts,
