@@ -261,13 +261,16 @@ def test_design_does_not_depend_on_state_units(T, factory, kwargs,
     where the optimum is unique (the coupled optimum is degenerate:
     different gains reach the same γ).  The nominal optima; the default
     designs, which split the optimum's double pole along a direction
-    their search finds, agree in γ to 1e-4 (0.82880 and 0.82882 in
-    refinement's two realisations) and keep the decay."""
+    their search finds (refinement is not invariant under a change of
+    units), agree in γ to 0.1 %, within the 0.2 % the refinement's
+    reproducibility asks for, and keep the decay (the pair, T = diag(1e3,
+    2.5e-2): 0.73667 and 0.73695 with numpy 2.4, where numpy 2.0 and 2.5
+    agree to 1e-4)."""
     Ti = np.linalg.inv(T)
     robust = [factory(ct.ss(A2, B2, C2, 0), Bw=BW2, Dw=DW2, **kwargs),
               factory(ct.ss(T @ A2 @ Ti, T @ B2, C2 @ Ti, 0), Bw=T @ BW2,
                       Dw=DW2, Cz=Ti, **kwargs)]
-    assert robust[1].hinf == pytest.approx(robust[0].hinf, rel=1e-4)
+    assert robust[1].hinf == pytest.approx(robust[0].hinf, rel=1e-3)
     for obs in robust:
         assert np.max(ct.poles(obs).real) <= -kwargs.get('decay', 0)
     kwargs = dict(kwargs, gain_tolerance=0)
