@@ -145,6 +145,29 @@ def test_headroom_returns_the_one_copy_design_and_says_why():
     assert free.hinf == pytest.approx(0.4953, abs=1e-4)
 
 
+def test_headroom_within_the_floor_tolerance():
+    """Same plant at decay 2.8: the optimum gain is on the edge, L = 2.3
+    (γ(L) = √(1 + L²)/(0.5 + L) grows for L > 2), with γ = √6.29/2.8,
+    0.14 % above the floor 1/√1.25.  That is within the default floor
+    tolerance of 0.25 %: the pair returns the one-copy design, unrefined,
+    and says by how much a pair could at most do better; with a tolerance
+    of 0.1 % the pair is refined, and is no worse than one copy."""
+    one_copy = np.sqrt(1 + 2.3**2) / 2.8
+    floor = 1 / np.sqrt(1.25)
+    assert 1.001 < one_copy / floor < 1.0025
+    pair = cx.coupled_observer(SCALAR, decay=2.8, **NOISE)
+    assert 'by more than 0.25 %' in pair.report.stats['headroom']
+    assert 'refine' not in pair.report.stats
+    Ae = pair.A
+    assert np.max(np.linalg.eigvals(Ae).real) <= -2.8
+    assert ct.linfnorm(ct.ss(Ae, pair.B, pair.C, pair.D))[0] == \
+        pytest.approx(one_copy, rel=1e-4)
+    tight = cx.coupled_observer(SCALAR, decay=2.8, **NOISE,
+                                refine_options=dict(floor_tol=1e-3))
+    assert 'headroom' not in tight.report.stats
+    assert floor * (1 - 1e-6) <= tight.hinf <= one_copy * (1 + 1e-4)
+
+
 def test_sensitivity_of_a_simple_pole():
     """Scalar: the pole -(0.5 + L(1 + δ)) moves by L δ: at most 2 ε."""
     obs = cx.LuenbergerObserver(SCALAR, [[2.0]])

@@ -34,7 +34,7 @@ import numpy as np
 
 from ..exceptions import VerificationError
 
-__all__ = ['Judge', 'rank', 'equal']
+__all__ = ['Judge', 'rank', 'equal', 'at_floor']
 
 
 class Judge:
@@ -129,3 +129,21 @@ def equal(gamma, problem):
     """How far above ``gamma`` a design still counts as equally good:
     0.1 % relative, and an absolute floor for norms near 0."""
     return max(1e-3 * gamma, 1e-4 * problem.noise_scale)
+
+
+def at_floor(value, floor, problem, options):
+    """Is ``value`` at the unconstrained filter level ``floor`` (a level
+    no observer of any structure beats), within the refinement's
+    ``floor_tol`` (relative) or the absolute floor of :func:`equal`?
+    Refinement stops there, and a design there is not refined further.
+
+    >>> from controlext.synthesis import ObserverProblem, SynthesisOptions
+    >>> prob = ObserverProblem(A=[[-1.0]], C=[[1.0]])
+    >>> opts = SynthesisOptions()
+    >>> at_floor(1.002, 1.0, prob, opts), at_floor(1.003, 1.0, prob, opts)
+    (True, False)
+    """
+    if floor is None:
+        return False
+    tol = options.refine_options.floor_tol
+    return value <= floor + max(tol * floor, equal(0.0, problem))

@@ -117,7 +117,9 @@ class RefineOptions:
         than ``race_tie`` (relative) ahead of the leader.
     floor_tol : float
         Refinement stops once a point inside the region is within this
-        (relative) of the unconstrained filter level, which no gain beats.
+        (relative) of the unconstrained filter level, which no gain beats,
+        and a convex or one-copy design that close to it is returned
+        unrefined (copies cannot gain more).
     polish_tol : float
         A polishing run is converged when a segment gains less than this
         (relative); within a segment BFGS stops after 30 steps that
@@ -161,7 +163,7 @@ class RefineOptions:
     race_progress: float = 0.03
     race_reach: float = 1.0
     race_tie: float = 1e-3
-    floor_tol: float = 1e-3
+    floor_tol: float = 2.5e-3
     polish_tol: float = 1e-7
     norm_tol: float = 1e-10
     push: int = 200

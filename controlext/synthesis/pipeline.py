@@ -51,7 +51,7 @@ from .memo import memoised, one_design
 from .lmi import check_lmi_memory, common_certificate
 from .models import conflicts
 from .verify import verify_design
-from .judge import Judge, equal, rank
+from .judge import Judge, at_floor, equal, rank
 from .tolerance import GAIN_TOLERANCE, NOMINAL, robust_default, tolerant
 from .copies import fewer_copies, one_copy
 
@@ -298,15 +298,16 @@ def synthesise(problem, region, options, convex=None, check=None,
                              max_states=options.lmi_max_states,
                              criterion=criteria.objective)
     stats.update(floor_level=floor)
-    if best is not None and within and floor is not None and \
-            criteria.value(best) <= floor + equal(floor, problem):
+    if best is not None and within and \
+            at_floor(criteria.value(best), floor, problem, options):
         # the convex design is at the level no observer of any structure
         # can beat: refinement has nothing to gain
         best.stats = stats.replace(headroom=(
             f"the convex design reaches the unconstrained filter level "
             f"{floor:.6g} of the {NAMES[criteria.objective]} "
             f"({criteria.value(best):.6g}): no observer of any structure "
-            "or order can do better, so it was not refined"))
+            f"or order can do better{_by_more(options)}, so it was not "
+            "refined"))
         return convex.G, best
     ladder = Ladder([(convex.stage, convex.G)])
     if best is None and criteria.bounds:
@@ -419,14 +420,14 @@ def _copies_ladder(ladder, problem, region, options, convex, judge, floor,
     G1, rep1 = single
     stats.update(luenberger_hinf=rep1.hinf)
     one = criteria.value(rep1)
-    if floor is not None and one <= floor + equal(floor, problem):
+    if at_floor(one, floor, problem, options):
         # headroom: the one-copy design is at the level no observer of
         # any structure can beat; copies cannot improve on it
         stats['headroom'] = (
             f"the one-copy design reaches the unconstrained filter level "
             f"{floor:.6g} of the {NAMES[criteria.objective]} ({one:.6g}): "
-            "no observer of any structure or order can do better, so the "
-            "copies were not refined")
+            "no observer of any structure or order can do better"
+            f"{_by_more(options)}, so the copies were not refined")
         try:
             report = judge(problem.embed(G1), method=f'{convex.method}'
                            '+headroom', stage='luenberger', convex=convex,
@@ -506,6 +507,11 @@ def _looser_start(problem, region, options, convex, bound, floor):
     except (VerificationError, SolverError):
         return []
     return [(f'max_gain={looser.level:.3g}', Gl)]
+
+
+def _by_more(options):
+    """' by more than 0.25 %': the refinement's floor tolerance, said."""
+    return f" by more than {100 * options.refine_options.floor_tol:.3g} %"
 
 
 _no_floor = object()
