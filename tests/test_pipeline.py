@@ -124,8 +124,12 @@ def test_options_are_frozen_and_checked():
 ])
 def test_refinement_rule_is_the_same_for_every_kind(kind, kwargs, refined):
     """Refine where the convex stage is conservative: a region, or more
-    than one copy; never where it is exact (one copy, no region)."""
-    small = dict(random_starts=2, polish=2)
+    than one copy; never where it is exact (one copy, no region).  The
+    coupled plant's one-copy design is 0.13-0.17 % above its filter
+    level, within the default floor tolerance, where the pair is not
+    refined (the headroom tests of test_tradeoff.py): the tolerance is 0
+    here."""
+    small = dict(random_starts=2, polish=2, floor_tol=0)
     with warnings.catch_warnings():
         warnings.simplefilter('ignore', UserWarning)
         obs = FACTORIES[kind](refine_options=small, **kwargs)
