@@ -300,8 +300,8 @@ def synthesise(problem, region, options, convex=None, check=None,
     stats.update(floor_level=floor)
     if best is not None and within and \
             at_floor(criteria.value(best), floor, problem, options):
-        # the convex design is at the level no observer of any structure
-        # can beat: refinement has nothing to gain
+        # the convex design is within floor_tol of the level no observer
+        # of any structure can beat: refinement has at most that to gain
         best.stats = stats.replace(headroom=(
             f"the convex design reaches the unconstrained filter level "
             f"{floor:.6g} of the {NAMES[criteria.objective]} "
@@ -421,8 +421,8 @@ def _copies_ladder(ladder, problem, region, options, convex, judge, floor,
     stats.update(luenberger_hinf=rep1.hinf)
     one = criteria.value(rep1)
     if at_floor(one, floor, problem, options):
-        # headroom: the one-copy design is at the level no observer of
-        # any structure can beat; copies cannot improve on it
+        # headroom: the one-copy design is within floor_tol of the level
+        # no observer of any structure can beat; copies gain at most that
         stats['headroom'] = (
             f"the one-copy design reaches the unconstrained filter level "
             f"{floor:.6g} of the {NAMES[criteria.objective]} ({one:.6g}): "
