@@ -27,9 +27,12 @@ True
 
 from ..exceptions import SolverError, VerificationError
 from .refine import refine_design
-from .tolerance import TOLERANCE_TOP
 
 __all__ = ['one_copy', 'first_rows', 'fewer_copies']
+
+#: under a smaller gain tolerance, the grown design of fewer copies is
+#: also grown with the one-copy design of this tolerance
+TRACKER_TOLERANCE = 1e-2
 
 
 def one_copy(synthesise, problem, region, options, convex, bound, floor):
@@ -76,8 +79,8 @@ def fewer_copies(synthesise, problem, region, options, convex, bound,
     only the poles it adds.  Under a gain tolerance the ``N − 1`` design
     is at its tolerance's limit and the grown gain has more entries, so
     the grown design rarely meets it: it is grown with the one-copy
-    design and with that of the loose tolerance :data:`TOLERANCE_TOP`
-    (poles away from the edge), and refined under the tolerance from
+    design and with that of the loose tolerance :data:`TRACKER_TOLERANCE`
+    (poles well away from the edge), and refined under the tolerance from
     both (quadruple tank, N = 3: the grown designs keep the region under
     gain errors of 3.7e-7 and 8.0e-7 only; refined, 1.4806 against 1.5208
     for N = 2, where the three-copy design had been 1.5537)."""
@@ -91,10 +94,10 @@ def fewer_copies(synthesise, problem, region, options, convex, bound,
     label = f'{fewer.copies} copies'
     grown = [(problem.grow(Gf, single[0]), label)]
     tolerance = options.criteria.gain_tolerance
-    if tolerance and tolerance < TOLERANCE_TOP:
+    if tolerance and tolerance < TRACKER_TOLERANCE:
         try:
             L, _ = one_copy(synthesise, problem, region, options.replace(
-                gain_tolerance=TOLERANCE_TOP), convex, bound, floor)
+                gain_tolerance=TRACKER_TOLERANCE), convex, bound, floor)
         except (VerificationError, SolverError):
             pass
         else:
