@@ -35,6 +35,15 @@ noise model the benchmarks use: a disturbance entering with the inputs
 * ``mass chain`` — four unit masses in a chain of unit springs and light
   dampers (0.02 N·s/m), the first tied to a wall, the force on the first mass, the positions of
   the first and the last measured: 8 states, four lightly damped modes.
+* ``frame with mass driver`` — a three-storey shear frame with an active
+  mass driver on its roof, after the structural-control benchmarks of
+  Spencer, Dyke & Deoskar (*Earthquake Eng. Struct. Dyn.* 27(11), 1998):
+  unit floor masses, storey stiffnesses 3/2/1 from the ground up, 2 %
+  stiffness-proportional damping of the first mode, a driver of 5 % of a
+  floor's mass tuned to that mode, pushed against the roof by an
+  actuator of time constant 0.1 s; the three floor displacements, the
+  driver's stroke and the actuator's force measured: 9 states, 5
+  sensors, four lightly damped modes.
 """
 
 import numpy as np
@@ -117,6 +126,42 @@ def _mass_chain(masses=4, spring=1.0, damper=0.02):
     return ct.ss(A, B, C, 0)
 
 
+def _frame_with_driver(stiffness=(3.0, 2.0, 1.0), driver=0.05, lag=0.1,
+                       zeta=0.02):
+    floors = len(stiffness)
+    bodies = floors + 1                     # the floors and the driver
+    K = np.zeros((bodies, bodies))
+    for i, k in enumerate(stiffness):       # storey i joins floors i-1, i
+        K[i, i] += k
+        if i:
+            K[i - 1, i - 1] += k
+            K[i - 1, i] -= k
+            K[i, i - 1] -= k
+    first = np.sqrt(np.linalg.eigvalsh(K[:floors, :floors]).min())
+    kd = driver * first**2                  # the driver tuned to mode 1
+    roof, mass = floors - 1, floors
+    K[np.ix_([roof, mass], [roof, mass])] += kd * np.array([[1, -1],
+                                                            [-1, 1]])
+    Minv = np.diag(1 / np.array([1.0] * floors + [driver]))
+    damping = 2 * zeta / first * K
+    force = np.zeros(bodies)
+    force[mass], force[roof] = 1.0, -1.0   # between the roof and driver
+    n = 2 * bodies + 1                      # and the actuator's force
+    A = np.zeros((n, n))
+    A[:bodies, bodies:2 * bodies] = np.eye(bodies)
+    A[bodies:2 * bodies, :bodies] = -Minv @ K
+    A[bodies:2 * bodies, bodies:2 * bodies] = -Minv @ damping
+    A[bodies:2 * bodies, -1] = Minv @ force
+    A[-1, -1] = -1 / lag
+    B = np.zeros((n, 1))
+    B[-1, 0] = 1 / lag
+    C = np.zeros((5, n))
+    C[:floors, :floors] = np.eye(floors)
+    C[floors, mass], C[floors, roof] = 1.0, -1.0
+    C[floors + 1, -1] = 1.0
+    return ct.ss(A, B, C, 0)
+
+
 PUBLIC.update({
     'quadruple tank': _quadruple_tank(),
     'two-mass spring': ct.ss([[0, 0, 1, 0], [0, 0, 0, 1], [-1, 1, 0, 0],
@@ -124,6 +169,7 @@ PUBLIC.update({
                              [[0, 1, 0, 0]], 0),
     'quarter car': _quarter_car(),
     'mass chain': _mass_chain(),
+    'frame with mass driver': _frame_with_driver(),
 })
 
 
