@@ -140,13 +140,13 @@ class RefineOptions:
     placed_states, placed_starts : int
         On error systems of at most ``placed_states`` states whose best
         design has three or more poles on the region's edge, the best
-        result whose pole map is regular (not the Luenberger-equivalent
-        start, whose identical copies make it singular) is polished
+        results whose pole map is regular (not the Luenberger-equivalent
+        start, whose identical copies make it singular) are polished
         again with the poles as variables
-        (:mod:`~controlext.synthesis.placed`); where that does not beat
-        it, so are the next results more than ``race_tie`` behind the
-        last one polished (another basin), until one beats it or
-        ``placed_starts`` were polished.
+        (:mod:`~controlext.synthesis.placed`), one per basin (each more
+        than ``race_tie`` behind the last one polished), until
+        ``placed_starts`` were polished or one reached the floor; the
+        best of all is the result.
     """
     random_starts: int | None = None
     screen_iterations: int = 25
