@@ -127,8 +127,25 @@ def rank(verified, criteria, problem, method, stats):
 
 def equal(gamma, problem):
     """How far above ``gamma`` a design still counts as equally good:
-    0.1 % relative, and an absolute floor for norms near 0."""
-    return max(1e-3 * gamma, 1e-4 * problem.noise_scale)
+    0.1 % relative; a norm of at most ``1e-4 · problem.noise_scale`` (a
+    norm near 0) is equal to any other that small.
+
+    The absolute floor applies only to norms near 0: above it, a floor in
+    the noise channel's units made designs 0.34 % apart equal (the
+    second-order plant's three copies, γ = 0.013 against the channel's
+    0.447), and which of them was returned moved with the plant's last
+    bits.
+
+    >>> from controlext.synthesis import ObserverProblem
+    >>> prob = ObserverProblem(A=[[-1.0]], C=[[1.0]], Bw=[[1.0, 0.0]],
+    ...                        Dw=[[0.0, 1.0]])
+    >>> prob.noise_scale
+    2.0
+    >>> equal(1.0, prob), equal(0.01, prob), equal(1e-5, prob)
+    (0.001, 1e-05, 0.0002)
+    """
+    zero = 1e-4 * problem.noise_scale
+    return zero if gamma <= zero else 1e-3 * gamma
 
 
 def at_floor(value, floor, problem, options):
