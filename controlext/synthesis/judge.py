@@ -130,11 +130,10 @@ def equal(gamma, problem):
     0.1 % relative; a norm of at most ``1e-4 · problem.noise_scale`` (a
     norm near 0) is equal to any other that small.
 
-    The absolute floor applies only to norms near 0: above it, a floor in
-    the noise channel's units made designs 0.34 % apart equal (the
-    second-order plant's three copies, γ = 0.013 against the channel's
-    0.447), and which of them was returned moved with the plant's last
-    bits.
+    The absolute floor applies only to norms near 0: above them, a floor
+    in the noise channel's units would make designs several tenths of a
+    percent apart equal, and which of them is returned would move with
+    the plant's last bits.
 
     >>> from controlext.synthesis import ObserverProblem
     >>> prob = ObserverProblem(A=[[-1.0]], C=[[1.0]], Bw=[[1.0, 0.0]],

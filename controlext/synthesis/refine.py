@@ -354,11 +354,8 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
         # one per basin (more than a tie behind the last one tried): the
         # basin whose polish ends lowest is not the one that led after
         # polishing (HE1 pair, nominal: 19.79 from the best, 17.18 from
-        # the third), and which one it is moves with the last bits of
-        # the plant (second order N = 3, nominal: the first basin's
-        # polish beat every polished result and ended 4.1 % above the
-        # others' on one 1e-13 draw in four, where polishing all three
-        # ended within 0.03 % on all four)
+        # the third), and stopping at the first that beats the best
+        # result made which basin won move with the plant's last bits
         tried, last, low = 0, None, results[0][0]
         enough = None if floor is None else floor * (1 + opts.floor_tol)
         for gamma, label, G in list(results):
