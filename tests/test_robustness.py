@@ -430,3 +430,30 @@ def test_partial_placement_moves_only_the_poles_outside():
     # nothing outside: the zero gain
     assert not np.any(partial_gain(A, C, cx.Disk(0.995), cx.Disk(1.0),
                                    dt=0.01))
+
+
+def test_poles_are_computed_in_the_units_the_gain_was_designed_in():
+    """The nominal pair of the units test, mapped to states x' = T x with
+    T = diag(1e-3, 1e3): the error matrix is the same up to similarity,
+    and verification reads its poles in the design's units, where they
+    match those of the plain realisation (an independent eigenvalue
+    computation on a matrix of norm 9 instead of 6e6)."""
+    from controlext.synthesis import HalfPlane
+    from controlext.synthesis.problem import plant_problem
+    from controlext.synthesis.verify import verify_design
+    T = np.diag([1e-3, 1e3])
+    Ti = np.linalg.inv(T)
+    plain = cx.coupled_observer(ct.ss(A2, B2, C2, 0), Bw=BW2, Dw=DW2,
+                                decay=3.0, gain_tolerance=0)
+    problem = plant_problem(ct.ss(T @ A2 @ Ti, T @ B2, C2 @ Ti, 0),
+                            Bw=T @ BW2, Dw=DW2, Cz=Ti, copies=2)
+    G = np.kron(np.eye(2), T) @ plain.G
+    report = verify_design(problem, G, HalfPlane(3.0), units=np.diag(T))
+    expected = np.linalg.eigvals(plain.problem.Ae - plain.G @ plain.problem.Ce)
+    # a four-pole cluster moves as the fourth root of rounding (1e-4
+    # here, in any units); its slowest pole stays inside, as in the plain
+    # realisation, where the given units' 6e6-norm matrix read it 8e-6
+    # outside for the same design made in these units (numpy 2.5)
+    assert np.max(report.poles.real) == pytest.approx(
+        np.max(expected.real), abs=1e-4)
+    assert np.max(report.poles.real) <= -3.0 + 1e-6 * 3.0

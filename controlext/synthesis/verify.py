@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from .regions import Region
     from .tradeoff import Tradeoff
 
-__all__ = ['DesignReport', 'ModelReport', 'verify_design']
+__all__ = ['DesignReport', 'ModelReport', 'verify_design', 'error_poles']
 
 #: relative tolerance between a certified bound and the true norm
 BOUND_RTOL = 1e-5
@@ -296,6 +296,36 @@ def origin(stage, method) -> str:
     return route
 
 
+def error_poles(problem, A, units=None):
+    """Eigenvalues of the error matrix ``A`` of ``problem``, computed in
+    whichever of two similar realisations has the smaller norm: the given
+    units or, when given, ``units`` (a diagonal state scaling per plant
+    state, the units a gain was designed in).  Rounding in the eigenvalue
+    solver is of the order of ``eps ‖A‖``: in badly scaled units it can
+    split a pole cluster on the region's edge past the edge, where the
+    same matrix in balanced units shows it inside.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from controlext.synthesis import ObserverProblem
+    >>> prob = ObserverProblem([[-1.0, 1e6], [0.0, -2.0]], [[1.0, 0.0]])
+    >>> lam = error_poles(prob, prob.Ae, units=[1.0, 1e-6])
+    >>> np.sort(lam.real).tolist()
+    [-2.0, -1.0]
+    """
+    A = np.asarray(A, dtype=float)
+    if not A.size:
+        return np.zeros(0)
+    if units is not None and A.shape[0] % len(units) == 0:
+        d = np.kron(np.ones(A.shape[0] // len(units)),
+                    np.asarray(units, dtype=float))
+        balanced = A / d[:, None] * d[None, :]
+        if np.linalg.norm(balanced) < np.linalg.norm(A):
+            A = balanced
+    return np.linalg.eigvals(A)
+
+
 def verify_design(problem, G, region=None, gamma_bound=None, method='given',
                   check=True, convex=None, criteria=None, units=None,
                   **info):
@@ -338,7 +368,7 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
                     f"on model {k} of {len(members)}: {exc}") from None
         return worst_case(reports)
     sys = ct.ss(*problem.error_system(G), problem.dt)
-    poles = np.linalg.eigvals(sys.A) if sys.nstates else np.zeros(0)
+    poles = error_poles(problem, sys.A, units)
     gamma, wpeak = hinfnorm_quiet(sys)
     # where double precision cannot evaluate the gain to its eighth digit
     # (a far from normal error system) the norm is stated as the upper
