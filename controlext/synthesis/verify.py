@@ -300,10 +300,10 @@ def error_poles(A, units=None):
     """Eigenvalues of an error matrix ``A``, computed in whichever of two
     similar realisations has the smaller norm: the given units or, when
     given, ``units`` (a diagonal state scaling per plant state, repeated
-    for every copy: the units a gain was designed in).  Rounding in the eigenvalue
-    solver is of the order of ``eps ‖A‖``: in badly scaled units it can
-    split a pole cluster on the region's edge past the edge, where the
-    same matrix in balanced units shows it inside.
+    for every copy: the units a gain was designed in).  Rounding in the
+    eigenvalue solver is of the order of ``eps ‖A‖``: in badly scaled
+    units it can split a pole cluster on the region's edge past the edge,
+    where the same matrix in balanced units shows it inside.
 
     Examples
     --------
