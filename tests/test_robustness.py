@@ -450,10 +450,8 @@ def test_poles_are_computed_in_the_units_the_gain_was_designed_in():
     G = np.kron(np.eye(2), T) @ plain.G
     report = verify_design(problem, G, HalfPlane(3.0), units=np.diag(T))
     expected = np.linalg.eigvals(plain.problem.Ae - plain.G @ plain.problem.Ce)
-    # a four-pole cluster moves as the fourth root of rounding (1e-4
-    # here, in any units); its slowest pole stays inside, as in the plain
-    # realisation, where the given units' 6e6-norm matrix read it 8e-6
-    # outside for the same design made in these units (numpy 2.5)
+    # a four-pole cluster moves as the fourth root of rounding, in any
+    # units; its slowest pole stays inside, as in the plain realisation
     assert np.max(report.poles.real) == pytest.approx(
         np.max(expected.real), abs=1e-4)
     assert np.max(report.poles.real) <= -3.0 + 1e-6 * 3.0

@@ -296,11 +296,11 @@ def origin(stage, method) -> str:
     return route
 
 
-def error_poles(A, units=None):
-    """Eigenvalues of an error matrix ``A``, computed in whichever of two
-    similar realisations has the smaller norm: the given units or, when
-    given, ``units`` (a diagonal state scaling per plant state, repeated
-    for every copy: the units a gain was designed in).  Rounding in the
+def error_poles(problem, A, units=None):
+    """Eigenvalues of an error matrix ``A`` of ``problem``, computed in
+    whichever of two similar realisations has the smaller norm: the given
+    units or, when given, ``units`` (a diagonal state scaling per plant
+    state, the units a gain was designed in).  Rounding in the
     eigenvalue solver is of the order of ``eps ‖A‖``: in badly scaled
     units it can split a pole cluster on the region's edge past the edge,
     where the same matrix in balanced units shows it inside.
@@ -308,17 +308,17 @@ def error_poles(A, units=None):
     Examples
     --------
     >>> import numpy as np
-    >>> A = np.array([[-1.0, 1e6], [0.0, -2.0]])
-    >>> lam = error_poles(A, units=[1.0, 1e-6])
+    >>> from controlext.synthesis import ObserverProblem
+    >>> prob = ObserverProblem([[-1.0, 1e6], [0.0, -2.0]], [[1.0, 0.0]])
+    >>> lam = error_poles(prob, prob.Ae, units=[1.0, 1e-6])
     >>> np.sort(lam.real).tolist()
     [-2.0, -1.0]
     """
     A = np.asarray(A, dtype=float)
     if not A.size:
         return np.zeros(0)
-    if units is not None and A.shape[0] % len(units) == 0:
-        d = np.kron(np.ones(A.shape[0] // len(units)),
-                    np.asarray(units, dtype=float))
+    if units is not None:
+        d = np.kron(np.ones(problem.copies), np.asarray(units, float))
         balanced = A / d[:, None] * d[None, :]
         if np.linalg.norm(balanced) < np.linalg.norm(A):
             A = balanced
@@ -369,7 +369,7 @@ def verify_design(problem, G, region=None, gamma_bound=None, method='given',
                     f"on model {k} of {len(members)}: {exc}") from None
         return worst_case(reports)
     sys = ct.ss(*problem.error_system(G), problem.dt)
-    poles = error_poles(sys.A, units)
+    poles = error_poles(problem, sys.A, units)
     gamma, wpeak = hinfnorm_quiet(sys)
     # where double precision cannot evaluate the gain to its eighth digit
     # (a far from normal error system) the norm is stated as the upper
