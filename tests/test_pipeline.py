@@ -145,7 +145,7 @@ def test_coupled_gi_never_worse_than_one_copy():
                           refine_options=dict(floor_tol=0))
     assert pair.hinf <= single.hinf * (1 + 1e-3)
     starts = dict(pair.report.stats['refine']['starts'])
-    assert 'luenberger' in {label.split('+')[0] for label in starts}
+    assert 'luenberger split' in {label.split('+')[0] for label in starts}
     assert np.max(ct.poles(pair).real) <= -1.0 + 1e-6
 
 

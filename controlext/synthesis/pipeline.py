@@ -53,7 +53,7 @@ from .models import conflicts
 from .verify import verify_design
 from .judge import Judge, at_floor, equal, rank
 from .tolerance import GAIN_TOLERANCE, NOMINAL, robust_default, tolerant
-from .copies import fewer_copies, one_copy
+from .copies import fewer_copies, one_copy, split
 
 __all__ = ['design', 'synthesise', 'needs_refinement', 'check_problem']
 
@@ -454,7 +454,10 @@ def _refined(ladder, problem, region, options, bound, floor, stats):
             # a candidate, not a start: copies are never worse than one
             grown.append(ladder.fewer[0])
         else:
-            starts.append(ladder.fewer[0][::-1])
+            # identical copies, split: BFGS would keep them identical
+            G1, label = ladder.fewer[0]
+            starts.append((f'{label} split', split(G1, options.seed)))
+            grown.append(ladder.fewer[0])
         grown += ladder.fewer[1:]
     # a repair starts from the nominal optimum and the design of the
     # loosest tolerance alone: the first is where the norm is least, the
