@@ -130,6 +130,9 @@ class RefineSummary(_Record):
         (:mod:`~controlext.synthesis.stationary`).
     failed : str or None
         Why refinement gave no gain (the convex design was kept).
+    runners : list of (str, ndarray)
+        The end points of other basins, best first
+        (:attr:`~controlext.synthesis.RefineResult.runners`).
     """
     start: str | None = UNSET
     starts: list | None = UNSET
@@ -138,6 +141,7 @@ class RefineSummary(_Record):
     phases: dict | None = UNSET
     stationary: Any = UNSET
     failed: str | None = UNSET
+    runners: list | None = UNSET
 
 
 @dataclass(eq=False, repr=False)

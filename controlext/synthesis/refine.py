@@ -77,6 +77,10 @@ class RefineResult:
     stationary : Stationarity or None
         The gradient-sampling test of the result
         (:func:`~controlext.synthesis.stationary.stationarity`).
+    runners : list of (str, ndarray)
+        The end points of up to :data:`RUNNERS` other basins, best first
+        (each more than ``race_tie`` behind the one before it): starts
+        for a refinement under a tighter limit.
     """
     G: np.ndarray
     gamma: float
@@ -86,13 +90,15 @@ class RefineResult:
     time: float = 0.0
     phases: dict = field(default_factory=dict)
     stationary: Stationarity | None = None
+    runners: list = field(default_factory=list)
 
     def summary(self):
         """What a design report keeps of the refinement: everything but
         the gain and its norm (``report.stats['refine']``)."""
         return RefineSummary(start=self.start, starts=self.starts,
                              evaluations=self.evaluations, time=self.time,
-                             phases=self.phases, stationary=self.stationary)
+                             phases=self.phases, stationary=self.stationary,
+                             runners=self.runners)
 
 
 #: margin evaluations a start's feasibility push may take.  On the default
@@ -102,6 +108,9 @@ class RefineResult:
 #: failed at most 825; pushes of the campaign's seed 113 (GI augmented,
 #: unstable) averaged 3,900 and took 96 of its 104 s
 PUSH_EVALUATIONS = 1600
+#: the other basins' end points a refinement keeps
+#: (:attr:`RefineResult.runners`)
+RUNNERS = 2
 
 
 def _on_boundary(obj, G):
@@ -381,7 +390,22 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
                         starts=[(lb, float(g)) for g, lb, _ in results],
                         evaluations=evaluations + test.samples,
                         time=time.perf_counter() - t0, phases=phases,
-                        stationary=test)
+                        stationary=test,
+                        runners=_runners(results, opts.race_tie))
+
+
+def _runners(results, tie):
+    """``[(label, G)]``: the end points of ``results`` (sorted ``(γ,
+    label, G)``) after the first, each more than ``tie`` (relative) behind
+    the last one kept, up to :data:`RUNNERS` of them."""
+    out, last = [], results[0][0]
+    for gamma, label, G in results[1:]:
+        if len(out) >= RUNNERS:
+            break
+        if np.isfinite(gamma) and gamma > last * (1 + tie):
+            out.append((label, G))
+            last = gamma
+    return out
 
 
 def refine_design(problem, region, starts, options, bound, floor, *,
