@@ -250,20 +250,23 @@ def test_nominal_optimum_meeting_the_tolerance_meets_fewer_copies_too():
 
 
 def test_runners_are_other_basins_best_first():
-    """A refinement keeps the end points of up to two other basins, each
-    more than ``race_tie`` (0.1 %) behind the one kept before it: a
-    basin's pole-cluster polish and its BFGS end point 0.05 % apart are
-    one basin."""
-    from controlext.synthesis.refine import RUNNERS, _runners
-    G = {label: np.full((2, 1), k) for k, label in enumerate('abcde')}
+    """A refinement keeps the end points of up to two other basins within
+    5 % of its result, each more than ``race_tie`` (0.1 %) behind the one
+    kept before it: a basin's pole-cluster polish and its BFGS end point
+    0.05 % apart are one basin."""
+    from controlext.synthesis.refine import RUNNER_GAP, RUNNERS, _runners
+    G = {label: np.full((2, 1), k) for k, label in enumerate('abcdef')}
     results = [(10.0, 'a', G['a']), (10.005, 'b', G['b']),
-               (10.5, 'c', G['c']), (10.504, 'd', G['d']),
-               (11.0, 'e', G['e'])]
+               (10.2, 'c', G['c']), (10.204, 'd', G['d']),
+               (10.4, 'e', G['e']), (10.45, 'f', G['f'])]
     runners = _runners(results, 1e-3)
-    assert RUNNERS == 2
+    assert (RUNNERS, RUNNER_GAP) == (2, 0.05)
     assert [label for label, _ in runners] == ['c', 'e']
     assert runners[0][1] is G['c']
     assert _runners(results[:2], 1e-3) == []
+    # 6 % behind: not a runner
+    far = [(10.0, 'a', G['a']), (10.6, 'f', G['f'])]
+    assert _runners(far, 1e-3) == []
 
 
 def test_tighter_tolerance_starts_from_the_looser_designs_basins(
