@@ -95,7 +95,8 @@ class RefineResult:
 
     def summary(self):
         """What a design report keeps of the refinement: everything but
-        the gain and its norm (``report.stats['refine']``)."""
+        the gain and its norm (``report.stats['refine']``), the runners'
+        gains included."""
         return RefineSummary(start=self.start, starts=self.starts,
                              evaluations=self.evaluations, time=self.time,
                              phases=self.phases, stationary=self.stationary,

@@ -21,8 +21,8 @@ for :data:`GAIN_TOLERANCE` unless told otherwise (:func:`robust_default`).
    optimum, the repaired design a candidate beside them.  Which basin
    of the looser design ends lowest under the tighter tolerance is not
    the one that led (HE1 pair: from the plant and three 1e-13
-   perturbations of it, 18.27-19.37 from the leader alone; 18.27-18.64
-   from the best three).  The looser design is made the general way
+   perturbations of it, 18.41-19.26 from the leader alone, 18.41-18.99
+   from the runners too).  The looser design is made the general way
    (convex design, random starts, the nominal optimum); so is a design
    of a tolerance at or above :data:`TOLERANCE_TOP`.
 
