@@ -28,7 +28,8 @@ import numpy as np
 __all__ = ['bfgs']
 
 
-def bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7, creep=None):
+def bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7, creep=None,
+         size=abs):
     """BFGS with a weak-Wolfe bisection line search (Lewis & Overton).
 
     ``f(x, grad=True)`` returns ``(value, gradient)`` (``(value, None)``
@@ -40,7 +41,8 @@ def bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7, creep=None):
     BFGS otherwise keeps creeping towards the kink.  ``creep = (steps,
     rtol)`` adds a longer window: the run ends when ``steps`` iterations
     improved ``f`` by less than ``rtol`` (a slow steady creep, which the
-    short window never sees stall).
+    short window never sees stall).  Both are relative to ``size(f)``
+    (default ``|f|``).
     """
     x = np.array(x0, dtype=float)
     fx, gx = f(x)
@@ -53,10 +55,10 @@ def bfgs(f, x0, maxiter, stop=None, stall=10, stall_tol=1e-7, creep=None):
         if stop is not None and stop(x, fx):
             break
         if len(history) > stall and \
-                history[-stall - 1] - fx <= stall_tol * abs(fx):
+                history[-stall - 1] - fx <= stall_tol * size(fx):
             break
         if creep is not None and len(history) > creep[0] and \
-                history[-creep[0] - 1] - fx <= creep[1] * abs(fx):
+                history[-creep[0] - 1] - fx <= creep[1] * size(fx):
             break
         d = -H @ gx
         if gx @ d >= 0:

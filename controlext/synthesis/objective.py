@@ -152,6 +152,14 @@ class Objective:
     # -- pieces -------------------------------------------------------------
 
     @property
+    def offset(self):
+        """The least margin beyond an edge when a limit is held (its
+        ``outside`` in gain units; the region's margin adds to it), 0
+        without limits."""
+        return max((self.gain_units * limit.outside
+                    for limit in self.limits), default=0.0)
+
+    @property
     def constrained(self):
         """Is there a constraint (a region, a gain or a norm bound)?"""
         return self.region is not None or self.gain_bound is not None or \
@@ -507,6 +515,7 @@ class WorstCase:
         self.rho, self.delta, self.tikhonov = rho, delta, tikhonov
         self.Ae, self.Ce = first.Ae, first.Ce
         self.constrained = first.constrained
+        self.offset = first.offset
         self.count = 0
         self.reset_best()
 

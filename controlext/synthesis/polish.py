@@ -104,8 +104,15 @@ def make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7),
         return fx <= target or (evaluations is not None and
                                 count[0] >= evaluations)
 
+    # beyond an edge a limit's margin is its constant ``outside`` plus
+    # the region's margin, and the push's progress is the latter's
+    offset = obj.offset
+
+    def size(fx):
+        return fx - offset if offset and fx >= offset else abs(fx)
+
     x, _ = bfgs(f, G.ravel(), maxiter, stop=stop, stall=stall[0],
-                stall_tol=stall[1])
+                stall_tol=stall[1], size=size)
     G = x.reshape(G.shape)
     return G if obj.margin(G)[0] <= target else None
 
