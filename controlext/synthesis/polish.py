@@ -106,7 +106,7 @@ def make_feasible(obj, G, target, maxiter=200, stall=(10, 1e-7),
 
     # beyond an edge a limit's margin is its constant ``outside`` plus
     # the region's margin, and the push's progress is the latter's
-    offset = obj.offset
+    offset = getattr(obj, 'offset', 0.0)
 
     def size(fx):
         return fx - offset if offset and fx >= offset else abs(fx)
