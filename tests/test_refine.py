@@ -405,6 +405,35 @@ def test_a_feasibility_push_stops_at_its_evaluation_budget():
     assert held.calls <= 20 + 42 < free.calls
 
 
+
+def test_a_push_beyond_an_edge_is_measured_on_the_region_margin():
+    """Under a limit, a margin beyond an edge is the limit's constant
+    (``offset``, 40 in gain units) plus the region's margin ``q``.  A push
+    whose ``q`` falls slowly (``x^-0.1``: about 6 % a step) gets in when
+    its stall test is relative to ``q``; relative to ``40 + q``, as it
+    was, 15 steps gained less than 1 % of that and the push gave up
+    outside (the quadruple tank pair's repair: 0 of 4 splits got in)."""
+    class Beyond:
+        constrained = True
+
+        def margin(self, G):
+            x = float(G[0, 0])
+            if x <= 0:
+                return np.inf, np.zeros_like(G)
+            q = x ** -0.1 - 0.05
+            return (40.0 + q if q > 0 else q), np.array([[-0.1 * x ** -1.1]])
+
+    class Offset(Beyond):
+        offset = 40.0
+
+    for x0 in (10.0, 1e3, 1.7e5):
+        start = np.array([[x0]])
+        assert polish.make_feasible(Beyond(), start, -1e-3, 200,
+                                    stall=(15, 1e-2)) is None
+        G = polish.make_feasible(Offset(), start, -1e-3, 200,
+                                 stall=(15, 1e-2), evaluations=1600)
+        assert G is not None and G[0, 0] ** -0.1 - 0.05 <= -1e-3
+
 def test_costly_problem_whose_starts_all_fail_screening_is_refused(
         monkeypatch):
     """A costly problem (a 60-state pair's repair: three starts, no random
