@@ -405,7 +405,6 @@ def test_a_feasibility_push_stops_at_its_evaluation_budget():
     assert held.calls <= 20 + 42 < free.calls
 
 
-
 def test_a_push_beyond_an_edge_is_measured_on_the_region_margin():
     """Under a limit, a margin beyond an edge is the limit's constant
     (``offset``, 40 in gain units) plus the region's margin ``q``.  A push
@@ -433,6 +432,7 @@ def test_a_push_beyond_an_edge_is_measured_on_the_region_margin():
         G = polish.make_feasible(Offset(), start, -1e-3, 200,
                                  stall=(15, 1e-2), evaluations=1600)
         assert G is not None and G[0, 0] ** -0.1 - 0.05 <= -1e-3
+
 
 def test_costly_problem_whose_starts_all_fail_screening_is_refused(
         monkeypatch):
