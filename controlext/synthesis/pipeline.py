@@ -320,7 +320,7 @@ def synthesise(problem, region, options, convex=None, check=None,
     if criteria.gain_tolerance:
         done, extra, ladder.repair, ladder.kept = tolerant(
             synthesise, problem, region, options, convex, bound, floor,
-            judge, ladder.fewer)
+            judge, ladder.fewer, stats)
         if done is not None:
             return done
         ladder.starts += extra

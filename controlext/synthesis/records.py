@@ -178,6 +178,11 @@ class DesignStats(_Record):
         Candidate designs that failed verification, and why.
     tolerance : str or None
         How the gain tolerance was met.
+    nominal : float or None
+        The minimised norm of the nominal optimum (the design of
+        ``gain_tolerance=0``) where it missed the gain tolerance and the
+        design is another: what the tolerance cost is the design's norm
+        over this one.
     limits : dict or None
         Each bounded criterion's value over its bound.
     max_gain : dict or None
@@ -195,6 +200,7 @@ class DesignStats(_Record):
     refine: RefineSummary | None = UNSET
     refused: list | None = UNSET
     tolerance: str | None = UNSET
+    nominal: float | None = UNSET
     limits: dict | None = UNSET
     max_gain: dict | None = UNSET
 

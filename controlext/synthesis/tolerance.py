@@ -93,7 +93,7 @@ def robust_default(options, region):
 
 
 def tolerant(synthesise, problem, region, options, convex, bound, floor,
-             check, rivals=()):
+             check, rivals=(), stats=None):
     """The nominal-first road of a gain tolerance: ``(done, starts,
     repair, candidates)``.
 
@@ -106,7 +106,10 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
     gain under the tolerance, and ``rivals`` ``[(G, label)]`` are designs
     of fewer copies grown to these (the one-copy design, ``N − 1``
     copies), which a design returned early (the nominal optimum or its
-    repair) must beat.
+    repair) must beat.  Where the nominal optimum misses the tolerance,
+    its norm goes to the statistics (``stats``, those of the design the
+    road ends with, and those of a design returned early) as
+    ``nominal``.
     """
     criteria = options.criteria
     try:
@@ -131,14 +134,16 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
         return _best((Gn, report), rivals, check, criteria, convex), [], \
             False, []
     starts = [(NOMINAL, Gn)]
+    level = criteria.value(nominal)
+    if stats is not None:
+        stats.update(nominal=level)
     if criteria.gain_tolerance >= TOLERANCE_TOP:
         return None, starts, False, []
     fast = _repaired(problem, region, options, convex, bound, floor, check,
                      Gn, nominal)
     kept = []
     if fast is not None:
-        if criteria.value(fast[1]) <= (1 + REPAIR_COST) * \
-                criteria.value(nominal):
+        if criteria.value(fast[1]) <= (1 + REPAIR_COST) * level:
             # copies are never worse than fewer (the repair may end up
             # to REPAIR_COST above the nominal optimum of copies)
             return _best(fast, rivals, check, criteria, convex), [], \
@@ -173,7 +178,7 @@ def _repaired(problem, region, options, convex, bound, floor, check, Gn,
     except VerificationError:
         return None
     stats = nominal.stats.replace(
-        refine=res.summary(),
+        refine=res.summary(), nominal=options.criteria.value(nominal),
         tolerance='the nominal optimum, refined under the gain tolerance')
     try:
         report = check(res.G, method=f'{convex.method}+refine',

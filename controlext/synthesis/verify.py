@@ -224,6 +224,7 @@ class DesignReport:
         lines.append(table_row('how the gain was found',
                                f"{origin(self.stage, self.method)} "
                                f"({self.time:.3g} s)"))
+        lines += self._tolerance_text()
         test = self._stationarity()
         if test is not None:
             lines.append(table_row(
@@ -234,6 +235,22 @@ class DesignReport:
         if self.models:
             lines += self._models_text()
         return '\n'.join(lines)
+
+    def _tolerance_text(self):
+        """What the gain tolerance cost, where the nominal optimum missed
+        it (``stats['nominal']``)."""
+        nominal = self.stats.get('nominal')
+        objective = 'hinf' if self.criteria is None else \
+            self.criteria.objective
+        value = self.hinf if objective == 'hinf' else self.h2
+        if nominal is None or value is None or not nominal > 0:
+            return []
+        name = 'γ' if objective == 'hinf' else 'H2 norm'
+        return [table_row(
+            'gain tolerance costs',
+            f"{100 * (value / nominal - 1):+.3g} % in {name} over the "
+            f"nominal optimum's {nominal:.6g}, which misses it "
+            "(gain_tolerance=0 returns that design)")]
 
     def _models_text(self):
         """The table of a multi-model design: one row per model."""
