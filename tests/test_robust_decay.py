@@ -66,6 +66,21 @@ def test_paper_designs_keep_their_decay(plant, decay, copies, published):
         assert obs.hinf <= 1.01 * nominal.hinf
 
 
+def test_report_states_the_h2_cost_of_the_tolerance():
+    """Minimising the H2 norm, the report keeps the H2 norm of the
+    nominal optimum (that of the ``gain_tolerance=0`` design, whose
+    clustered poles miss the tolerance) and states the cost in it."""
+    obs = cx.coupled_observer(SCALAR, decay=2.5, objective='h2')
+    nominal = cx.coupled_observer(SCALAR, decay=2.5, objective='h2',
+                                  gain_tolerance=0)
+    keeps(obs, -2.5)
+    kept = obs.report.stats['nominal']
+    assert kept == pytest.approx(nominal.report.h2, rel=1e-3)
+    assert kept * (1 - 1e-6) <= obs.report.h2 <= 1.005 * kept
+    cost = f"{100 * (obs.report.h2 / kept - 1):+.3g} % in H2 norm"
+    assert cost in str(obs.report)
+
+
 def test_mimo_747_designs_keep_their_decay():
     """Two sensors, input disturbances and sensor noise; one copy and a
     pair.  The certificate is a bound: every corner of the box of
