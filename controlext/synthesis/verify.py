@@ -240,12 +240,12 @@ class DesignReport:
         """What the gain tolerance cost, where the nominal optimum missed
         it (``stats['nominal']``)."""
         nominal = self.stats.get('nominal')
-        objective = 'hinf' if self.criteria is None else \
-            self.criteria.objective
-        value = self.hinf if objective == 'hinf' else self.h2
-        if nominal is None or value is None or not nominal > 0:
+        criteria = self.criteria or Criteria()
+        if nominal is None or not nominal > 0:
             return []
-        name = 'γ' if objective == 'hinf' else 'H2 norm'
+        value = criteria.value(self)
+        name = 'γ' if criteria.objective == 'hinf' else \
+            NAMES[criteria.objective]
         return [table_row(
             'gain tolerance costs',
             f"{100 * (value / nominal - 1):+.3g} % in {name} over the "
