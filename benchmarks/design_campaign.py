@@ -36,7 +36,9 @@ returned design that fails a check), warned, check failed (the same on a
 design the package sent a GainWarning with), and gains above 1e6 times
 the plant's scale returned without a GainWarning.  Apart from the
 outcomes it counts the calls that let a warning other than the
-package's GainWarning reach the user, and prints them.
+package's GainWarning reach the user, and prints them; it also prints the
+design calls' own times and, where the nominal optimum missed the default
+gain tolerance, what the tolerance cost (``report.stats['nominal']``).
 
     python benchmarks/design_campaign.py --calls 1000
     python benchmarks/design_campaign.py --calls 60 --limit 60
@@ -673,6 +675,14 @@ def run_case(case, queue):
                 obs = design(case)
             finally:
                 queue.put(('seconds', time.perf_counter() - began))
+        # what the default gain tolerance cost, where the nominal optimum
+        # missed it
+        nominal = obs.report.stats.get('nominal')
+        if nominal:
+            criteria = obs.report.criteria
+            value = obs.hinf if criteria is None else \
+                criteria.value(obs.report)
+            queue.put(('cost', value / nominal))
         warned = any(issubclass(w.category, cx.GainWarning) for w in caught)
         why = judge(case, obs)
         # the plant's scale: rate over measurement size (not meaningful
@@ -795,8 +805,8 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
                 got = queue.get()
                 if got[0] == 'memory':
                     memo['peak'] = got[1] // 1024
-                elif got[0] == 'seconds':
-                    memo['seconds'] = got[1]
+                elif got[0] in ('seconds', 'cost'):
+                    memo[got[0]] = got[1]
                 else:
                     result = got
             if result is not None:
@@ -818,7 +828,7 @@ def campaign(calls, limit=120.0, start=0, workers=2, verbose=False):
             counts['other warnings'] += bool(others)
             details.append((case['seed'], case['family'], case['kind'],
                             case['dt'] > 0, case['region'], outcome, why,
-                            others, memo.get('seconds')))
+                            others, memo.get('seconds'), memo.get('cost')))
             if verbose:
                 print(case['seed'], case['family'], case['kind'], outcome,
                       why if outcome not in ('verified', 'refused right')
@@ -845,6 +855,24 @@ def _design_times(details):
               f"{' discrete' if d[3] else ''} {d[4]} -> {d[5]}")
 
 
+def _tolerance_costs(details):
+    """Print what the default gain tolerance cost where the nominal
+    optimum missed it (the design's norm over the nominal optimum's,
+    ``report.stats['nominal']``): median, 90th percentile, largest, and
+    the three costliest calls."""
+    costed = [d for d in details if d[9] is not None]
+    if not costed:
+        return
+    ratio = np.array([d[9] for d in costed])
+    print(f"gain tolerance cost over {len(costed)} designs whose nominal "
+          f"optimum missed it: median {100 * (np.median(ratio) - 1):+.2f} "
+          f"%, 90th percentile {100 * (np.percentile(ratio, 90) - 1):+.2f} "
+          f"%, largest {ratio.max():.3g}x")
+    for d in sorted(costed, key=lambda d: -d[9])[:3]:
+        print(f"  {d[9]:7.3f}x  seed {d[0]} {d[1]} {d[2]}"
+              f"{' discrete' if d[3] else ''} {d[4]} -> {d[5]}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--calls', type=int, default=1000)
@@ -868,6 +896,7 @@ def main():
     print(f"200-state method='lmi': {outcome} in {seconds} s, peak "
           f"{peak} MB: {message}")
     _design_times(details)
+    _tolerance_costs(details)
     by = collections.Counter((d[1], d[5]) for d in details)
     print("\nby family:")
     for family in FAMILIES:
