@@ -163,3 +163,18 @@ def test_a_multi_model_refusal_leaks_no_solver_warning():
     assert details[0][5] in ('refused', 'refused right'), details[0]
     assert 'models 1 and 2' in details[0][6]
     assert details[0][7] == []
+
+
+def test_no_tolerance_cost_is_stated_against_a_norm_near_zero():
+    """Seed 5211 (defective, four plant models, stability only): the
+    nominal optimum (γ 2.0e-6) misses the default gain tolerance and the
+    default design has γ 9.4e-6.  Both are below 1e-4 of the noise scale,
+    where norms rank equal to 0: a cost relative to them (+369 %) would
+    say nothing, and the report states none."""
+    obs = design(make_case(5211))
+    assert obs.hinf < 1e-4 * obs.problem.noise_scale
+    # the default design is not the nominal optimum: it came from the
+    # road through gain_tolerance=1e-4
+    assert obs.report.stage == 'gain_tolerance=0.0001'
+    assert 'nominal' not in obs.report.stats
+    assert 'gain tolerance costs' not in str(obs.report)

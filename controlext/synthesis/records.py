@@ -182,7 +182,8 @@ class DesignStats(_Record):
         The minimised norm of the nominal optimum (the design of
         ``gain_tolerance=0``) where it missed the gain tolerance and the
         design is another: what the tolerance cost is the design's norm
-        over this one.
+        over this one (not recorded for a norm near 0, which ranks equal
+        to 0).
     limits : dict or None
         Each bounded criterion's value over its bound.
     max_gain : dict or None

@@ -50,6 +50,7 @@ True
 import numpy as np
 
 from ..exceptions import ArgumentError, SolverError, VerificationError
+from .judge import equal
 from .limits import edges_of
 from .refine import refine_design
 
@@ -109,7 +110,8 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
     repair) must beat.  Where the nominal optimum misses the tolerance,
     its norm goes to the statistics (``stats``, those of the design the
     road ends with, and those of a design returned early) as
-    ``nominal``.
+    ``nominal``, unless it is a norm near 0 (:func:`equal` to 0), to
+    which no cost is relative.
     """
     criteria = options.criteria
     try:
@@ -135,12 +137,13 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
             False, []
     starts = [(NOMINAL, Gn)]
     level = criteria.value(nominal)
-    if stats is not None:
+    cost = level > equal(0.0, problem)
+    if stats is not None and cost:
         stats.update(nominal=level)
     if criteria.gain_tolerance >= TOLERANCE_TOP:
         return None, starts, False, []
     fast = _repaired(problem, region, options, convex, bound, floor, check,
-                     Gn, nominal)
+                     Gn, nominal, level if cost else None)
     kept = []
     if fast is not None:
         if criteria.value(fast[1]) <= (1 + REPAIR_COST) * level:
@@ -164,9 +167,10 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
 
 
 def _repaired(problem, region, options, convex, bound, floor, check, Gn,
-              nominal):
+              nominal, level):
     """The nominal optimum ``Gn`` refined under the gain tolerance from
-    itself and its splits, ``(G, report)`` verified, or None."""
+    itself and its splits, ``(G, report)`` verified (its statistics
+    keeping the nominal norm ``level`` where it is not None), or None."""
     criteria = options.criteria
     rng = np.random.default_rng(options.seed)
     starts = [(NOMINAL, Gn)] + [
@@ -178,8 +182,9 @@ def _repaired(problem, region, options, convex, bound, floor, check, Gn,
     except VerificationError:
         return None
     stats = nominal.stats.replace(
-        refine=res.summary(), nominal=options.criteria.value(nominal),
-        tolerance='the nominal optimum, refined under the gain tolerance')
+        refine=res.summary(),
+        tolerance='the nominal optimum, refined under the gain tolerance',
+        **({} if level is None else dict(nominal=level)))
     try:
         report = check(res.G, method=f'{convex.method}+refine',
                        stage='refined', convex=convex, stats=stats)
