@@ -851,8 +851,7 @@ def _design_times(details):
           f"{np.percentile(seconds, 90):.2f} s, largest {seconds.max():.2f} s,"
           f" above 20 s: {int(np.sum(seconds > 20))}")
     for d in sorted(timed, key=lambda d: -d[8])[:5]:
-        print(f"  {d[8]:7.2f} s  seed {d[0]} {d[1]} {d[2]}"
-              f"{' discrete' if d[3] else ''} {d[4]} -> {d[5]}")
+        print(f"  {d[8]:7.2f} s  {_call(d)}")
 
 
 def _tolerance_costs(details):
@@ -869,8 +868,14 @@ def _tolerance_costs(details):
           f"%, 90th percentile {100 * (np.percentile(ratio, 90) - 1):+.2f} "
           f"%, largest {ratio.max():.3g}x")
     for d in sorted(costed, key=lambda d: -d[9])[:3]:
-        print(f"  {d[9]:7.3f}x  seed {d[0]} {d[1]} {d[2]}"
-              f"{' discrete' if d[3] else ''} {d[4]} -> {d[5]}")
+        print(f"  {d[9]:7.3f}x  {_call(d)}")
+
+
+def _call(d):
+    """A call of the details, said: seed, family, kind, timebase, region
+    and outcome."""
+    return (f"seed {d[0]} {d[1]} {d[2]}{' discrete' if d[3] else ''} "
+            f"{d[4]} -> {d[5]}")
 
 
 def main():
