@@ -196,3 +196,62 @@ def test_pole_cluster_search_rejects_trial_points_by_the_peak_bound(
         assert ct.linfnorm(err)[0] == pytest.approx(gamma, rel=1e-8)
         assert np.max(np.linalg.eigvals(err.A).real) <= -2.5 + 1e-9
     assert counts[4] < 0.9 * counts[0]
+
+
+def test_a_held_cluster_gets_more_maps_unless_told_not_to(monkeypatch):
+    """Five poles stacked at -2.5 (scalar plant, N = 5) are computed only
+    to about (ε‖M‖)^(1/5), so the search holds them inside; how far they
+    split depends on the map, so ``draws`` more maps are drawn at the
+    result and the best kept (``draws=0``: none).  Both results against
+    the independent best filter, rebuilt from the gain."""
+    from controlext.synthesis import placed
+    from controlext.synthesis.objective import Objective
+    searches = []
+    search = placed._search
+
+    def counted(*args, **kwargs):
+        searches.append(1)
+        return search(*args, **kwargs)
+
+    monkeypatch.setattr(placed, '_search', counted)
+    prob = ObserverProblem(A=[[-0.5]], C=[[1.0]], copies=5)
+    start = np.diag([2.5, 3.0, 3.5, 4.0, 4.5])
+    region = cx.HalfPlane(2.5)
+    best = best_filter(5)
+    out = {}
+    for draws in (0, 4):
+        obj = Objective(prob, region, rho=1.0, delta=1e-7)
+        del searches[:]
+        out[draws] = placed.placed_polish(obj, region, start, draws=draws), \
+            len(searches)
+    assert out[4][1] == out[0][1] + 4
+    assert out[4][0][0] <= out[0][0][0]
+    for (gamma, G), _ in out.values():
+        err = ct.ss(*prob.error_system(G))
+        assert ct.linfnorm(err)[0] == pytest.approx(gamma, rel=1e-8)
+        assert np.max(np.linalg.eigvals(err.A).real) <= -2.5 + 1e-9
+        assert best * (1 - 1e-4) <= gamma <= 1.03 * best
+
+
+def test_the_tolerance_roads_nominal_search_draws_no_extra_maps(
+        monkeypatch):
+    """The default design's nominal search (no tolerance) polishes pole
+    clusters without the extra maps, which only refine a cluster the
+    tolerance then rejects; its refinements under the tolerance, and a
+    design asked for with ``gain_tolerance=0``, draw them."""
+    from controlext.synthesis import refine
+    calls = []
+    polish = refine.placed_polish
+
+    def recorded(obj, *args, **kwargs):
+        calls.append((bool(obj.limits), kwargs['draws']))
+        return polish(obj, *args, **kwargs)
+
+    monkeypatch.setattr(refine, 'placed_polish', recorded)
+    cx.coupled_observer(SCALAR, decay=2.5, copies=3)
+    assert (False, 0) in calls and (True, 16) in calls
+    assert all(draws == (16 if tolerant else 0)
+               for tolerant, draws in calls)
+    del calls[:]
+    cx.coupled_observer(SCALAR, decay=2.5, copies=3, gain_tolerance=0)
+    assert calls and all(draws == 16 for _, draws in calls)

@@ -58,7 +58,8 @@ the map's ``(F, h)``, not only on the poles: at ``N = 6`` the computed
 excess of one search ranged from 0.001 to 0.02, and the result lost about
 as much (1.006–1.021× the best filter over seeds 0–5).  Where the best
 result has ``CLUSTER`` or more poles near the edge and was held inside by
-more than ``HOLD``, ``DRAWS`` more maps are drawn at its gain (a new ``h``
+more than ``HOLD``, ``draws`` more maps (16 by default,
+``refine_options['placed_draws']``) are drawn at its gain (a new ``h``
 each, ``F`` at the best gain), and the best result is kept: 1.006–1.009×
 over seeds 0–15, for about 5 s more.
 """
@@ -82,11 +83,10 @@ CREEP = (300, 1e-4)
 
 #: a result held inside the region by more than this (relative to the
 #: edge's scale) and with ``CLUSTER`` or more poles within ``NEAR`` of
-#: the edge (relative likewise) gets ``DRAWS`` more maps drawn at its gain
+#: the edge (relative likewise) gets ``draws`` more maps drawn at its gain
 HOLD = 1e-3
 NEAR = 3e-2
 CLUSTER = 5
-DRAWS = 16
 
 
 def _pairs(lam):
@@ -277,7 +277,7 @@ class PoleMap:
 
 
 def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4,
-                  enough=None):
+                  enough=None, draws=16):
     """Polish ``G0`` over the gains of :class:`PoleMap` on ``obj`` (a
     refinement :class:`~controlext.synthesis.objective.Objective`).
 
@@ -285,7 +285,9 @@ def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4,
     and that meets ``obj``'s other constraints, or None where the region
     is not one half-plane or disk, the map is singular at the start or no
     such gain was found.  It returns as soon as it finds a gain of norm
-    ``enough`` or less (a floor no gain beats).
+    ``enough`` or less (a floor no gain beats).  A result that is a
+    cluster held inside the region gets ``draws`` more maps (module
+    text).
     """
     try:
         edges = region.edges()
@@ -335,10 +337,10 @@ def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4,
     # the best result is such a cluster, held in, more maps are drawn at
     # its gain and the best result kept
     scale = _scale(edges[0])
-    if best is not None and held > HOLD * scale and near_edge(
+    if draws and best is not None and held > HOLD * scale and near_edge(
             region, np.linalg.eigvals(obj.Ae - best[1] @ obj.Ce),
             NEAR * scale) >= CLUSTER:
-        for _ in range(DRAWS):
+        for _ in range(draws):
             try:
                 pmap = PoleMap(obj.prob, edges[0], best[1], rng)
             except np.linalg.LinAlgError:

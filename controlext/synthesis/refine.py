@@ -380,7 +380,8 @@ def refine_gain(problem, region, starts, *, options=None, seed=0,
             if tried and gamma < last * (1 + opts.race_tie):
                 continue
             last = gamma
-            out = placed_polish(obj, region, G, seed, enough=enough)
+            out = placed_polish(obj, region, G, seed, enough=enough,
+                                draws=opts.placed_draws)
             if out is None:
                 continue
             tried += 1
