@@ -233,12 +233,10 @@ def test_a_held_cluster_gets_more_maps_unless_told_not_to(monkeypatch):
         assert best * (1 - 1e-4) <= gamma <= 1.03 * best
 
 
-def test_the_tolerance_roads_nominal_search_draws_no_extra_maps(
-        monkeypatch):
-    """The default design's nominal search (no tolerance) polishes pole
-    clusters without the extra maps, which only refine a cluster the
-    tolerance then rejects; its refinements under the tolerance, and a
-    design asked for with ``gain_tolerance=0``, draw them."""
+def test_placed_draws_reaches_every_pole_cluster_polish(monkeypatch):
+    """``refine_options['placed_draws']`` is what every polish with the
+    poles as variables gets, under the tolerance and in the nominal
+    search alike (16 when not given)."""
     from controlext.synthesis import refine
     calls = []
     polish = refine.placed_polish
@@ -248,10 +246,10 @@ def test_the_tolerance_roads_nominal_search_draws_no_extra_maps(
         return polish(obj, *args, **kwargs)
 
     monkeypatch.setattr(refine, 'placed_polish', recorded)
-    cx.coupled_observer(SCALAR, decay=2.5, copies=3)
-    assert (False, 0) in calls and (True, 16) in calls
-    assert all(draws == (16 if tolerant else 0)
-               for tolerant, draws in calls)
-    del calls[:]
-    cx.coupled_observer(SCALAR, decay=2.5, copies=3, gain_tolerance=0)
-    assert calls and all(draws == 16 for _, draws in calls)
+    for draws in (16, 3):
+        del calls[:]
+        options = {} if draws == 16 else \
+            dict(refine_options=dict(placed_draws=draws))
+        cx.coupled_observer(SCALAR, decay=2.5, copies=3, **options)
+        assert {(False, draws), (True, draws)} <= set(calls)
+        assert all(d == draws for _, d in calls)

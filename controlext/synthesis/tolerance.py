@@ -47,8 +47,6 @@ True
 True
 """
 
-from dataclasses import replace
-
 import numpy as np
 
 from ..exceptions import ArgumentError, SolverError, VerificationError
@@ -117,8 +115,8 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
     """
     criteria = options.criteria
     try:
-        Gn, nominal = synthesise(problem, region, _nominal(options),
-                                 convex=convex, bound=bound, floor=floor)
+        Gn, nominal = synthesise(problem, region, options.replace(
+            gain_tolerance=None), convex=convex, bound=bound, floor=floor)
     except (VerificationError, SolverError):
         return None, [], False, []
     try:
@@ -166,14 +164,6 @@ def tolerant(synthesise, problem, region, options, convex, bound, floor,
     return None, [(label, Gt)] + [
         (f'{label} {where}', G) for where, G in runners] + starts, \
         True, kept
-
-
-def _nominal(options):
-    """The options of the road's nominal search: no tolerance, and no
-    extra pole maps at a held cluster (``placed_draws``): such a cluster
-    misses the tolerance, so its further polish would be left."""
-    return options.replace(gain_tolerance=None, refine_options=replace(
-        options.refine_options, placed_draws=0))
 
 
 def _repaired(problem, region, options, convex, bound, floor, check, Gn,

@@ -250,8 +250,7 @@ class DesignReport:
             'gain tolerance costs',
             f"{100 * (value / nominal - 1):+.3g} % in {name} over the "
             f"nominal optimum's {nominal:.6g}, which misses it "
-            "(gain_tolerance=0 returns that design, polished further "
-            "where five or more of its poles stack on the edge)")]
+            "(gain_tolerance=0 returns that design)")]
 
     def _models_text(self):
         """The table of a multi-model design: one row per model."""
