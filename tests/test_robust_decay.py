@@ -81,6 +81,25 @@ def test_report_states_the_h2_cost_of_the_tolerance():
     assert cost in str(obs.report)
 
 
+def test_report_says_a_road_below_the_nominal_search_cost_nothing():
+    """Where the road ends below the nominal search (campaign seed 5183:
+    a three-copy design refined under the tolerance from a pair's, 0.669
+    against the nominal search's 0.691), the report says the tolerance
+    cost nothing and by how much the design is below, not a negative
+    cost; above it, the cost as before."""
+    obs = cx.coupled_observer(SCALAR, decay=2.5)
+    report = obs.report
+    gamma = report.hinf
+    report.stats = report.stats.replace(nominal=gamma / 0.95)
+    text = str(report)
+    assert "gain tolerance costs" in text
+    assert "nothing: this design's γ is 5 % below the nominal search's " \
+        f"{gamma / 0.95:.6g}" in text
+    assert "-5" not in text.split("gain tolerance costs")[1].splitlines()[0]
+    report.stats = report.stats.replace(nominal=gamma / 1.02)
+    assert "+2 % in γ over the nominal optimum's" in str(report)
+
+
 def test_mimo_747_designs_keep_their_decay():
     """Two sensors, input disturbances and sensor noise; one copy and a
     pair.  The certificate is a bound: every corner of the box of

@@ -183,7 +183,10 @@ class DesignStats(_Record):
         ``gain_tolerance=0``) where it missed the gain tolerance and the
         design is another: what the tolerance cost is the design's norm
         over this one (not recorded for a norm near 0, which ranks equal
-        to 0).
+        to 0).  The road can end below it, where it found a design the
+        nominal search missed (a three-copy design refined under the
+        tolerance from a pair's: campaign seed 5183, 0.669 against
+        0.691); the report then says the tolerance cost nothing.
     limits : dict or None
         Each bounded criterion's value over its bound.
     max_gain : dict or None
