@@ -249,17 +249,14 @@ class DesignReport:
         if value < nominal:
             # the road found a design the nominal search missed (a grown
             # design of fewer copies, refined under the tolerance)
-            return [table_row(
-                'gain tolerance costs',
-                f"nothing: this design's {name} is "
-                f"{100 * (1 - value / nominal):.3g} % below the nominal "
-                f"search's {nominal:.6g}, which misses the tolerance "
-                "(gain_tolerance=0 returns that design)")]
-        return [table_row(
-            'gain tolerance costs',
-            f"{100 * (value / nominal - 1):+.3g} % in {name} over the "
-            f"nominal optimum's {nominal:.6g}, which misses it "
-            "(gain_tolerance=0 returns that design)")]
+            text = (f"nothing: this design's {name} is "
+                    f"{100 * (1 - value / nominal):.3g} % below the nominal "
+                    f"search's {nominal:.6g}, which misses the tolerance")
+        else:
+            text = (f"{100 * (value / nominal - 1):+.3g} % in {name} over "
+                    f"the nominal optimum's {nominal:.6g}, which misses it")
+        return [table_row('gain tolerance costs', text +
+                          " (gain_tolerance=0 returns that design)")]
 
     def _models_text(self):
         """The table of a multi-model design: one row per model."""
