@@ -140,7 +140,8 @@ class RefineOptions:
         Recent peak frequencies the line search's lower bound looks at.
     placed_states, placed_starts : int
         On error systems of at most ``placed_states`` states whose best
-        design has three or more poles on the region's edge, the best
+        design has three or more poles on the region's edge (or two,
+        of more than two error poles), the best
         results whose pole map is regular (not the Luenberger-equivalent
         start, whose identical copies make it singular) are polished
         again with the poles as variables
