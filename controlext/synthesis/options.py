@@ -28,6 +28,7 @@ from dataclasses import MISSING, dataclass, field, fields, replace
 from typing import Any, TypeVar
 
 from .._checks import check_choice, check_number
+from .placed import DRAWS
 from .regions import check_decay
 from ..exceptions import ArgumentError, ParameterError
 from .criteria import Criteria
@@ -182,7 +183,7 @@ class RefineOptions:
     peaks: int = 4
     placed_states: int = 12
     placed_starts: int = 3
-    placed_draws: int = 16
+    placed_draws: int = DRAWS
 
     def __post_init__(self):
         for name, rule in _REFINE_CHECKS.items():

@@ -58,7 +58,7 @@ the map's ``(F, h)``, not only on the poles: at ``N = 6`` the computed
 excess of one search ranged from 0.001 to 0.02, and the result lost about
 as much (1.006–1.021× the best filter over seeds 0–5).  Where the best
 result has ``CLUSTER`` or more poles near the edge and was held inside by
-more than ``HOLD``, ``draws`` more maps (16 by default,
+more than ``HOLD``, ``draws`` more maps (``DRAWS`` by default,
 ``refine_options['placed_draws']``) are drawn at its gain (a new ``h``
 each, ``F`` at the best gain), and the best result is kept: 1.006–1.009×
 over seeds 0–15, for about 5 s more.
@@ -83,10 +83,12 @@ CREEP = (300, 1e-4)
 
 #: a result held inside the region by more than this (relative to the
 #: edge's scale) and with ``CLUSTER`` or more poles within ``NEAR`` of
-#: the edge (relative likewise) gets ``draws`` more maps drawn at its gain
+#: the edge (relative likewise) gets ``draws`` (default ``DRAWS``) more
+#: maps drawn at its gain
 HOLD = 1e-3
 NEAR = 3e-2
 CLUSTER = 5
+DRAWS = 16
 
 
 def _pairs(lam):
@@ -277,7 +279,7 @@ class PoleMap:
 
 
 def placed_polish(obj, region, G0, seed=0, iterations=1500, rounds=4,
-                  enough=None, draws=16):
+                  enough=None, draws=DRAWS):
     """Polish ``G0`` over the gains of :class:`PoleMap` on ``obj`` (a
     refinement :class:`~controlext.synthesis.objective.Objective`).
 

@@ -165,7 +165,7 @@ def _advance(args):
 def _clustered(obj, G, tol=1e-2):
     """Has ``G`` three or more error poles within ``tol`` (relative to
     the fastest) of the region's edge, where region margins stop being
-    Lipschitz, or two and more poles elsewhere that could join them?  (A
+    Lipschitz, or two there and others elsewhere that could join them?  (A
     pair can stall BFGS short of a larger cluster: the quadruple tank's
     one-copy design stopped at 2.464 with two of its four poles on the
     edge with numpy 2.0 and scipy 1.13 on one machine, 1.806 after this
